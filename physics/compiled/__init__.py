@@ -1,0 +1,1 @@
+"""Compiled (numba, cache=True) right-hand sides and integrators. Nothing here imports models/."""

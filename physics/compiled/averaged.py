@@ -1,0 +1,78 @@
+"""Compiled right-hand side of the averaged ("quasi-rigid") moving-mass model.
+
+Seed 004 eq. (1) with F, D, L, H, lambda and the control law (8), plus the quadratic-friction
+terms of seed 000 eq. (2.5) (B with C^4 A^-5, corrected per MODELS.md A.6 seed 000 item 4), all
+written as torques on the fictitious body J* w' + w x J* w = M.
+The cavity torque is written in its general form kc (Df(w) f(w) + w x f(w)), f(w) = -J*^-1(w x J* w),
+which for A = B is exactly (L p r^2, L q r^2, H (p^2 + q^2) r) of eq. (1).
+
+State (7): w (3), q (4). Parameters (12): J* (3), A used by the mass terms (the mean equatorial
+moment), F, D, unused, unused, lambda, b, Bq0 (seed 000 B without its factor w_perp), kc.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+NY = 7
+NP = 12
+
+
+@njit(cache=True)
+def braking_norm(y, p):
+    return math.sqrt((p[0] * y[0]) ** 2 + (p[1] * y[1]) ** 2 + (p[2] * y[2]) ** 2)
+
+
+@njit(cache=True)
+def rhs(t, y, p, out):
+    w1, w2, w3 = y[0], y[1], y[2]
+    J1, J2, J3 = p[0], p[1], p[2]
+    A, F, D, lam, b, Bq0, kc = p[3], p[4], p[5], p[8], p[9], p[10], p[11]
+    C = J3
+    G1, G2, G3 = J1 * w1, J2 * w2, J3 * w3
+    G2n = G1 * G1 + G2 * G2 + G3 * G3
+    Gn = math.sqrt(G2n)
+    wp2 = w1 * w1 + w2 * w2
+    r4 = w3 ** 4
+
+    # viscoelastic mass, seed 004 eq. (1): F G^2 (q r, -p r, 0) + D r^4 (p, q, -(A/C) (p^2+q^2)/r)
+    T1 = F * G2n * w2 * w3 + D * r4 * w1
+    T2 = -F * G2n * w1 * w3 + D * r4 * w2
+    T3 = -(A / C) * D * w3 ** 3 * wp2
+    # quadratic friction, seed 000 eq. (2.5) times the moments: B = Bq0 w_perp
+    if Bq0 != 0.0:
+        Bq = Bq0 * math.sqrt(wp2)
+        r6 = w3 ** 6
+        T1 += A * Bq * w1 * r6
+        T2 += A * Bq * w2 * r6
+        T3 -= Bq * (A * A / C) * wp2 * w3 ** 5
+    # medium and control
+    T1 -= lam * G1
+    T2 -= lam * G2
+    T3 -= lam * G3
+    if b > 0.0 and Gn > 0.0:
+        T1 -= b * G1 / Gn
+        T2 -= b * G2 / Gn
+        T3 -= b * G3 / Gn
+    # viscous cavity
+    if kc != 0.0:
+        c1 = (J2 - J3) / J1
+        c2 = (J3 - J1) / J2
+        c3 = (J1 - J2) / J3
+        f1 = c1 * w2 * w3
+        f2 = c2 * w3 * w1
+        f3 = c3 * w1 * w2
+        T1 += kc * (c1 * (w3 * f2 + w2 * f3) + (w2 * f3 - w3 * f2))
+        T2 += kc * (c2 * (w3 * f1 + w1 * f3) + (w3 * f1 - w1 * f3))
+        T3 += kc * (c3 * (w2 * f1 + w1 * f2) + (w1 * f2 - w2 * f1))
+
+    out[0] = (T1 - (w2 * G3 - w3 * G2)) / J1
+    out[1] = (T2 - (w3 * G1 - w1 * G3)) / J2
+    out[2] = (T3 - (w1 * G2 - w2 * G1)) / J3
+    qw, qx, qy, qz = y[3], y[4], y[5], y[6]
+    out[3] = -0.5 * (qx * w1 + qy * w2 + qz * w3)
+    out[4] = 0.5 * (qw * w1 + qy * w3 - qz * w2)
+    out[5] = 0.5 * (qw * w2 + qz * w1 - qx * w3)
+    out[6] = 0.5 * (qw * w3 + qx * w2 - qy * w1)

@@ -1,0 +1,32 @@
+"""The one place where compiled right-hand sides are dispatched by model id.
+
+numba caches a compiled function only when every function it calls is a module-level global, so
+the integrators call ``rhs(model, ...)`` below rather than taking the right-hand side as an
+argument. Registering a compiled model means adding a branch here and its id in models/.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from . import averaged as averaged_kernel
+from . import mass_full as mass_full_kernel
+
+MASS_FULL = 0
+MASS_AVERAGED = 1
+
+
+@njit(cache=True)
+def rhs(model, t, y, p, out):
+    if model == MASS_FULL:
+        mass_full_kernel.rhs(t, y, p, out)
+    elif model == MASS_AVERAGED:
+        averaged_kernel.rhs(t, y, p, out)
+
+
+@njit(cache=True)
+def braking_norm(model, y, p):
+    """|G| for the braking law: the run ends when it reaches zero (seed 004 eq. (11))."""
+    if model == MASS_FULL:
+        return mass_full_kernel.braking_norm(y, p)
+    return averaged_kernel.braking_norm(y, p)

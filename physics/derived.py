@@ -1,0 +1,27 @@
+"""Derived quantities for ``python -m physics info``: the papers' coefficients, T, eps, Re, and
+the fidelity ``auto`` would choose, with its reason."""
+
+from __future__ import annotations
+
+import math
+
+from .coefficients import coefficients
+from .scenario import Scenario
+from .validity import choose_fidelity
+
+
+def derived(sc: Scenario) -> dict[str, float | str]:
+    from .closed import braking_time
+
+    co = coefficients(sc)
+    out: dict[str, float | str] = dict(F=co.F, D=co.D, L=co.L, H=co.H, P=co.P)
+    out.update(Gamma1=co.Gamma1, Gamma2=co.Gamma2, k_star=co.k_star)
+    out["T"] = braking_time(co.G0, co.b, co.lam) if co.b > 0 else math.inf
+    out["G0"] = co.G0
+    out["theta0"] = co.theta0
+    out["eps"] = co.omega0 / sc.mass.Omega if sc.mass else 0.0
+    out["Re"] = sc.cavity.a0**2 * co.omega0 / sc.cavity.nu if sc.cavity else 0.0
+    fid, reason = choose_fidelity(sc)
+    out["auto_fidelity"] = fid
+    out["auto_reason"] = reason
+    return out

@@ -1,0 +1,155 @@
+"""Scenario files: TOML in, validated frozen parameters out, and back to TOML.
+
+A table left out means that part is absent (no mass, no cavity...). Unknown tables and keys are
+errors so a typo is never silently ignored. Numbers are written with 17 significant digits, so a
+scenario survives a round trip bit for bit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import ScenarioError
+from .params import RENAMED, SECTIONS, Body, Cavity, Control, Initial, Mass, Medium, Run
+
+MAX_BYTES = 1_000_000  # a scenario is a few hundred bytes; a cap keeps uploads harmless
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A whole problem: body, optional internal parts and torques, initial state and run."""
+
+    body: Body
+    initial: Initial
+    run: Run
+    mass: Mass | None = None
+    cavity: Cavity | None = None
+    medium: Medium | None = None
+    control: Control | None = None
+
+    def __post_init__(self):
+        if self.mass is not None and self.mass.m >= self.body.M:
+            raise ScenarioError("mass.m", self.mass.m, f"must be less than body.M = {self.body.M:g} (M is the total mass)")
+
+    # ---- construction -------------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, data: dict) -> "Scenario":
+        if not isinstance(data, dict):
+            raise ScenarioError("scenario", type(data).__name__, "must be a table of tables")
+        kwargs = {}
+        for table, value in data.items():
+            if table not in SECTIONS:
+                raise ScenarioError(str(table), "(table)", "unknown table; allowed: " + ", ".join(SECTIONS))
+            if not isinstance(value, dict):
+                raise ScenarioError(str(table), value, "must be a table [" + str(table) + "]")
+            kwargs[table] = _build(table, value)
+        for required in ("body", "initial", "run"):
+            if required not in kwargs:
+                raise ScenarioError(required, "(missing)", f"the table [{required}] is required")
+        return cls(**kwargs)
+
+    @classmethod
+    def from_toml(cls, text: str) -> "Scenario":
+        if len(text) > MAX_BYTES:
+            raise ScenarioError("scenario", f"{len(text)} bytes", f"must be at most {MAX_BYTES} bytes")
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise ScenarioError("scenario", "(TOML)", f"is not valid TOML: {exc}") from None
+        return cls.from_dict(data)
+
+    @classmethod
+    def load(cls, path: str | Path) -> "Scenario":
+        p = Path(path)
+        try:
+            if p.stat().st_size > MAX_BYTES:
+                raise ScenarioError("scenario", str(p), f"file must be at most {MAX_BYTES} bytes")
+            text = p.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ScenarioError("scenario", str(p), f"cannot be read: {exc.__class__.__name__}: {exc}") from None
+        return cls.from_toml(text)
+
+    # ---- output -------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        out = {}
+        for table in SECTIONS:
+            section = getattr(self, table)
+            if section is None:
+                continue
+            items = {}
+            for f in dataclasses.fields(section):
+                value = getattr(section, f.name)
+                if value is None:
+                    continue
+                items[f.name] = list(value) if isinstance(value, tuple) else value
+            back = {f: k for k, f in _toml_names(table).items()}
+            items = {back[k]: v for k, v in items.items()}
+            out[table] = items
+        return out
+
+    def to_toml(self) -> str:
+        lines = []
+        for table, items in self.to_dict().items():
+            lines.append(f"[{table}]")
+            lines += [f"{k} = {_toml_value(v)}" for k, v in items.items()]
+            lines.append("")
+        return "\n".join(lines)
+
+    def replace(self, **changes) -> "Scenario":
+        """A copy with whole sections replaced, validated again."""
+        return dataclasses.replace(self, **changes)
+
+    def with_values(self, **dotted) -> "Scenario":
+        """A copy with single keys changed, e.g. ``with_values(**{"mass.m": 0.2})``."""
+        data = self.to_dict()
+        for path, value in dotted.items():
+            table, _, key = path.partition(".")
+            data.setdefault(table, {})[key] = value
+            if table == "initial" and key == "omega":
+                data["initial"].pop("G0", None), data["initial"].pop("theta0", None)
+            if table == "initial" and key in ("G0", "theta0"):
+                data["initial"].pop("omega", None)
+        return Scenario.from_dict(data)
+
+
+def _toml_names(table: str) -> dict[str, str]:
+    """TOML key -> dataclass field of one table."""
+    fields = [f.name for f in dataclasses.fields(SECTIONS[table])]
+    back = {name: key for (t, key), name in RENAMED.items() if t == table}
+    return {back.get(f, f): f for f in fields}
+
+
+def _build(table: str, values: dict):
+    cls = SECTIONS[table]
+    names = _toml_names(table)
+    kwargs = {}
+    for key, value in values.items():
+        if key not in names:
+            raise ScenarioError(f"{table}.{key}", value, "unknown key; allowed: " + ", ".join(names))
+        kwargs[names[key]] = value
+    required = [k for k, f in names.items()
+                if next(x for x in dataclasses.fields(cls) if x.name == f).default is dataclasses.MISSING]
+    for key in required:
+        if key not in values:
+            raise ScenarioError(f"{table}.{key}", "(missing)", "is required")
+    return cls(**kwargs)
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if math.isnan(v) or math.isinf(v):  # never produced by a validated scenario
+            raise ValueError(v)
+        return repr(v) if "e" in repr(v) or "." in repr(v) else repr(v) + ".0"
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(type(v))
