@@ -55,8 +55,9 @@ def build_model_xml(A, B, C, M, m, rho, Omega, chi, dt=1e-3, integrator="RK4", p
     d0 = rho * M / M0  # = rho/(1-eta), carrier COM -> O1
     f = "{:.17g}".format
     joint = '<joint name="u{0}" type="slide" axis="{1}" stiffness="{2}" damping="{3}" springref="0"/>'
-    joints = "\n        ".join(joint.format(n, ax, f(c), f(delta)) for n, ax in (("x", "1 0 0"), ("y", "0 1 0"),
-                                                                                  ("z", "0 0 1")))
+    joints = "\n        ".join(
+        joint.format(n, ax, f(c), f(delta)) for n, ax in (("x", "1 0 0"), ("y", "0 1 0"), ("z", "0 0 1"))
+    )
     pi = f(point_inertia)
     return f"""<mujoco model="moving_mass">
   <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>
@@ -121,8 +122,9 @@ def observe(model, data) -> dict:
     }
 
 
-def run(A, B, C, M, m, rho, Omega, chi, omega0, t_out, dt, integrator="RK4", u0=None, v0=None,
-        point_inertia=POINT_INERTIA) -> dict:
+def run(
+    A, B, C, M, m, rho, Omega, chi, omega0, t_out, dt, integrator="RK4", u0=None, v0=None, point_inertia=POINT_INERTIA
+) -> dict:
     """Step the MuJoCo model from t = 0 and sample it at the times ``t_out`` (s, increasing, >= 0).
 
     Every gap between output times (and t_out[0] itself) must be a whole number of steps dt.
@@ -139,8 +141,9 @@ def run(A, B, C, M, m, rho, Omega, chi, omega0, t_out, dt, integrator="RK4", u0=
     nsteps = np.rint(gaps / dt).astype(np.int64)
     if np.any(np.abs(nsteps * dt - gaps) > STEP_MATCH * np.maximum(gaps, dt)):
         raise ValueError(f"every output spacing must be a whole number of steps dt = {dt:g}")
-    model = mujoco.MjModel.from_xml_string(build_model_xml(A, B, C, M, m, rho, Omega, chi, dt, integrator,
-                                                           point_inertia))
+    model = mujoco.MjModel.from_xml_string(
+        build_model_xml(A, B, C, M, m, rho, Omega, chi, dt, integrator, point_inertia)
+    )
     data = mujoco.MjData(model)
     initial_state(model, data, M, m, rho, omega0, u0, v0)
     rows = []
