@@ -202,8 +202,9 @@ class Run:
             if not isinstance(self.t_eval, (list, tuple)) or len(self.t_eval) < 1:
                 raise ScenarioError("run.t_eval", self.t_eval, "must be a non-empty list of times")
             ts = tuple(_number(f"run.t_eval[{i}]", v) for i, v in enumerate(self.t_eval))
-            if any(b <= a for a, b in zip(ts, ts[1:])) or ts[0] < 0 or ts[-1] > self.t_end:
-                raise ScenarioError("run.t_eval", self.t_eval, f"must increase strictly within [0, t_end = {self.t_end:g}]")
+            if any(b <= a for a, b in zip(ts, ts[1:], strict=False)) or ts[0] < 0 or ts[-1] > self.t_end:
+                raise ScenarioError("run.t_eval", self.t_eval,
+                                    f"must increase strictly within [0, t_end = {self.t_end:g}]")
             object.__setattr__(self, "t_eval", ts)
 
     def times(self):

@@ -33,11 +33,12 @@ class Scenario:
 
     def __post_init__(self):
         if self.mass is not None and self.mass.m >= self.body.M:
-            raise ScenarioError("mass.m", self.mass.m, f"must be less than body.M = {self.body.M:g} (M is the total mass)")
+            raise ScenarioError("mass.m", self.mass.m,
+                                f"must be less than body.M = {self.body.M:g} (M is the total mass)")
 
     # ---- construction -------------------------------------------------------------------
     @classmethod
-    def from_dict(cls, data: dict) -> "Scenario":
+    def from_dict(cls, data: dict) -> Scenario:
         if not isinstance(data, dict):
             raise ScenarioError("scenario", type(data).__name__, "must be a table of tables")
         kwargs = {}
@@ -53,7 +54,7 @@ class Scenario:
         return cls(**kwargs)
 
     @classmethod
-    def from_toml(cls, text: str) -> "Scenario":
+    def from_toml(cls, text: str) -> Scenario:
         if len(text) > MAX_BYTES:
             raise ScenarioError("scenario", f"{len(text)} bytes", f"must be at most {MAX_BYTES} bytes")
         try:
@@ -63,14 +64,15 @@ class Scenario:
         return cls.from_dict(data)
 
     @classmethod
-    def load(cls, path: str | Path) -> "Scenario":
+    def load(cls, path: str | Path) -> Scenario:
         p = Path(path)
         try:
             if p.stat().st_size > MAX_BYTES:
                 raise ScenarioError("scenario", str(p), f"file must be at most {MAX_BYTES} bytes")
             text = p.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as exc:
-            raise ScenarioError("scenario", str(p), f"cannot be read: {exc.__class__.__name__}: {exc}") from None
+            why = getattr(exc, "strerror", None) or str(exc)
+            raise ScenarioError("scenario", str(p), f"cannot be read ({why}); give the path of a TOML file") from None
         return cls.from_toml(text)
 
     # ---- output -------------------------------------------------------------------------
@@ -99,11 +101,11 @@ class Scenario:
             lines.append("")
         return "\n".join(lines)
 
-    def replace(self, **changes) -> "Scenario":
+    def replace(self, **changes) -> Scenario:
         """A copy with whole sections replaced, validated again."""
         return dataclasses.replace(self, **changes)
 
-    def with_values(self, **dotted) -> "Scenario":
+    def with_values(self, **dotted) -> Scenario:
         """A copy with single keys changed, e.g. ``with_values(**{"mass.m": 0.2})``."""
         data = self.to_dict()
         for path, value in dotted.items():

@@ -8,13 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..coefficients import coefficients, initial_G
 from ..compiled import dispatch as kernels
 from ..compiled import mass_full as mass_full_kernel
-from ..coefficients import coefficients, initial_G
-from ..rotation import nutation_angle, normalize, rotate
+from ..rotation import normalize, nutation_angle, rotate
 from ..scenario import Scenario
 from ..trajectory import Trajectory
-
 from .base import Model, register
 
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])

@@ -1,0 +1,104 @@
+"""Scenario files: every bad input gets an error naming the key, the value and what is allowed."""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import pytest
+
+import physics
+from physics import ScenarioError
+
+GOOD = {
+    "body": {"A": 1.0, "C": 1.4, "M": 1.0},
+    "mass": {"m": 0.1, "rho": 1.5, "Omega": 10.0, "chi": 10.0},
+    "cavity": {"beta": 1000.0, "nu": 20.0, "a0": 0.1},
+    "medium": {"lambda": 0.001},
+    "control": {"b": 0.001, "law": "K"},
+    "initial": {"G0": 1.0, "theta0": 0.5, "mass_state": "quasistatic"},
+    "run": {"fidelity": "auto", "t_end": 10.0},
+}
+
+
+def _with(path: str, value):
+    data = copy.deepcopy(GOOD)
+    table, key = path.split(".")
+    data[table][key] = value
+    return data
+
+
+BAD = [
+    ("body.A", math.nan, "finite"), ("body.A", math.inf, "finite"), ("body.C", -1.0, "> 0"),
+    ("body.A", 0.0, "> 0"), ("body.M", 0.0, "> 0"), ("body.B", "1", "number"), ("body.A", True, "number"),
+    ("body.C", 5.0, "must not exceed the sum"), ("mass.m", 0.0, "> 0"), ("mass.m", 1.0, "less than body.M"),
+    ("mass.m", 2.0, "less than body.M"), ("mass.rho", -0.1, ">= 0"), ("mass.Omega", 0.0, "> 0"),
+    ("mass.Omega", -3.0, "> 0"), ("mass.chi", -1.0, ">= 0"), ("mass.lam_q", -1.0, ">= 0"),
+    ("control.b", -0.1, ">= 0"), ("control.law", "G", '"K", "Jw"'), ("medium.lambda", -1.0, ">= 0"),
+    ("cavity.nu", 0.0, "> 0"), ("cavity.nu", -2.0, "> 0"), ("cavity.a0", math.nan, "finite"),
+    ("run.t_end", 0.0, "> 0"), ("run.t_end", -5.0, "> 0"), ("run.fidelity", "fast", '"full"'),
+    ("run.samples", 1, "whole number"), ("run.samples", 2.5, "whole number"), ("run.rtol", 1.0, "[1e-14, 1e-2]"),
+    ("run.t_eval", [0.0, 2.0, 1.0], "increase"), ("initial.theta0", 4.0, "[0, pi]"), ("initial.G0", -1.0, "> 0"),
+    ("initial.mass_state", "moving", '"rest"'), ("body.Z", 1.0, "unknown key"), ("mass.Omgea", 1.0, "unknown key"),
+    ("medium.lambda_", 1.0, "unknown key; allowed: lambda"),
+]
+
+
+@pytest.mark.parametrize("path,value,allowed", BAD, ids=[f"{p}={v!r}" for p, v, _ in BAD])
+def test_bad_value_names_key_value_and_range(path, value, allowed):
+    with pytest.raises(ScenarioError) as err:
+        physics.Scenario.from_dict(_with(path, value))
+    message = str(err.value)
+    assert message.startswith(path)
+    assert allowed in message
+    assert repr(value)[:10] in message or str(value) in message
+
+
+def test_rho_too_large_for_the_frozen_inertia():
+    data = _with("mass.rho", 4.0)
+    with pytest.raises(ScenarioError, match="mass.rho"):
+        physics.simulate(physics.Scenario.from_dict(data), fidelity="full")
+
+
+@pytest.mark.parametrize("text,key", [
+    ("[body\nA = 1", "scenario"),
+    ("[body]\nA = 1\nC = 1\nM = 1\n[initial]\nG0 = 1\ntheta0 = 0.1\n", "run"),
+    ("[nonsense]\nx = 1", "nonsense"),
+    ("[body]\nA = 1\nM = 1\n[initial]\nG0 = 1\ntheta0 = 0.1\n[run]\nt_end = 1", "body.C"),
+    ("[body]\nA=1\nC=1\nM=1\n[initial]\nG0=1\n[run]\nt_end=1", "initial"),
+    ("[body]\nA=1\nC=1\nM=1\n[initial]\nomega=[1,2]\n[run]\nt_end=1", "initial.omega"),
+    ("[body]\nA=1\nC=1\nM=1\n[initial]\nomega=[1,0,0]\nG0=1\n[run]\nt_end=1", "initial"),
+    ("body = 3", "body"),
+])
+def test_malformed_files(text, key):
+    with pytest.raises(ScenarioError) as err:
+        physics.Scenario.from_toml(text)
+    assert str(err.value).startswith(key)
+
+
+def test_round_trip_is_exact():
+    sc = physics.Scenario.from_dict(_with("initial.theta0", 0.1 + 0.2))  # a float with no short decimal form
+    again = physics.Scenario.from_toml(sc.to_toml())
+    assert again == sc
+    assert again.initial.theta0 == 0.1 + 0.2
+
+
+def test_absent_tables_mean_absent_parts():
+    data = {k: v for k, v in GOOD.items() if k not in ("cavity", "medium", "control")}
+    sc = physics.Scenario.from_dict(data)
+    assert sc.cavity is None and sc.medium is None and sc.control is None
+    assert sc.body.B == sc.body.A
+
+
+def test_averaged_outside_validity_warns_and_names_the_condition():
+    sc = physics.Scenario.from_dict(_with("mass.Omega", 2.0))  # eps ~ 0.5
+    with pytest.warns(physics.ValidityWarning, match="eps = "):
+        tr = physics.simulate(sc, fidelity="averaged")
+    assert len(tr.t) > 1
+
+
+def test_auto_reports_choice_and_reason():
+    tr = physics.simulate(physics.Scenario.from_dict(_with("mass.Omega", 2.0)))
+    assert tr.info["fidelity"] == "full" and "eps" in tr.info["reason"]
+    tr = physics.simulate(physics.Scenario.from_dict(GOOD))
+    assert tr.info["fidelity"] == "closed" and "hold" in tr.info["reason"]
