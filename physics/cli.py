@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+import time
 import warnings
 from pathlib import Path
 
@@ -40,6 +41,25 @@ def _parser() -> argparse.ArgumentParser:
     return ap
 
 
+class _Progress:
+    """Shows how far a long integration has got: in place on a terminal, every 10% in a log."""
+
+    def __init__(self):
+        self.start = time.perf_counter()
+        self.tty = sys.stderr.isatty()
+        self.last = 0.0
+
+    def __call__(self, fraction: float) -> None:
+        if time.perf_counter() - self.start < 1.0:
+            return  # short runs stay quiet
+        if self.tty:
+            end = "\n" if fraction >= 1 else ""
+            print(f"\rintegrating: {100 * fraction:5.1f}%", end=end, file=sys.stderr, flush=True)
+        elif fraction - self.last >= 0.1 or fraction >= 1:
+            self.last = fraction
+            print(f"integrating: {100 * fraction:.0f}%", file=sys.stderr, flush=True)
+
+
 def _load(path: str | None) -> Scenario:
     return default_scenario() if path is None else Scenario.load(path)
 
@@ -61,7 +81,7 @@ def main(argv: list[str] | None = None) -> int:
                     print(f"{k} = {_fmt(v)}")
                 return 0
             print(f"scenario: {args.scenario or 'built-in default'}", flush=True)
-            tr = simulate(sc, fidelity=args.fidelity, method=args.method)
+            tr = simulate(sc, fidelity=args.fidelity, method=args.method, progress=_Progress())
         except ScenarioError as exc:
             print(f"error: {exc}", file=sys.stderr)
             return 2

@@ -19,15 +19,19 @@ from .validity import averaged_conditions, choose_fidelity, closed_form_availabl
 SYSTEM = "moving_mass"
 ATOL_FACTOR = 1e-6  # atol = rtol * ATOL_FACTOR * max|y0|: keeps the small mass displacement resolved
 MAX_STEPS = 200_000_000
+CHUNKS = 50  # progress granularity; each chunk restarts the compiled loop with the last step size
 
 
-def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | None = None) -> Trajectory:
+def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | None = None,
+             progress=None) -> Trajectory:
     """Run ``scenario`` and return its Trajectory.
 
     ``fidelity`` and ``method`` override the scenario's [run] values. ``auto`` picks the cheapest
     model whose validity conditions hold (MODELS A.5) and says why in ``trajectory.info``.
     A model asked for outside its conditions runs anyway, with a ValidityWarning naming them.
     Braking (b > 0) ends the run when |G| reaches zero, at the braking time T.
+    ``progress(fraction)``, if given, is called as the compiled integrator finishes each of
+    CHUNKS pieces of the run.
     """
     if not isinstance(scenario, Scenario):
         raise ScenarioError("scenario", type(scenario).__name__, "must be a physics.Scenario")
@@ -47,16 +51,21 @@ def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | N
                 raise ScenarioError("run.fidelity", "closed", f"is not available for this scenario: {why}")
     model = get_model(SYSTEM, fid)
     t = scenario.run.times()
+    lead = t[0] > 0  # output starts later than the initial state: integrate from 0, drop that row
+    if lead:
+        t = np.concatenate([[0.0], t])
     start = time.perf_counter()
     if model.solve is not None:
         tr = model.solve(scenario, t)
     else:
-        tr = integrate(model, scenario, t, meth)
+        tr = integrate(model, scenario, t, meth, progress)
+    if lead:
+        tr = tr.slice(1)
     tr.info.update(model=model.name, fidelity=fid, reason=reason, wall_s=time.perf_counter() - start)
     return tr
 
 
-def integrate(model: Model, sc: Scenario, t: np.ndarray, method: str = "auto"):
+def integrate(model: Model, sc: Scenario, t: np.ndarray, method: str = "auto", progress=None):
     p = model.pack(sc)
     y0 = model.initial_state(sc, p)
     rtol = sc.run.rtol
@@ -64,20 +73,41 @@ def integrate(model: Model, sc: Scenario, t: np.ndarray, method: str = "auto"):
     b = float(sc.control.b) if sc.control else 0.0
     lam = float(sc.medium.lambda_) if sc.medium else 0.0
     if method == "auto":
-        Y, n, status, t_last, y_last, nfev, nsteps = dop853.integrate(
-            model.kernel, y0, p, np.ascontiguousarray(t, dtype=float), rtol, atol, b, lam, MAX_STEPS)
-        t_out, Y = t[:n], Y[:n]
-        if status != dop853.OK and t_last > t_out[-1]:
-            t_out, Y = np.append(t_out, t_last), np.vstack([Y, y_last])
-        info = dict(method="DOP853 (compiled)", nfev=int(nfev), steps=int(nsteps),
-                    stop_reason=dop853.STATUS_TEXT[status], t_stop=float(t_out[-1]))
-        if status in (dop853.NONFINITE, dop853.UNDERFLOW, dop853.MAX_STEPS):
-            raise IntegrationFault(dop853.STATUS_TEXT[status], float(t_last))
+        Y, t_out, info = _compiled(model, p, y0, t, rtol, atol, b, lam, progress)
     else:
         Y, t_out, info = _scipy(model, p, y0, t, method, rtol, atol, b)
     tr = model.observe(t_out, Y, p, sc)
     tr.info.update(info)
     return tr
+
+
+def _compiled(model, p, y0, t, rtol, atol, b, lam, progress):
+    """The compiled DOP853, in CHUNKS pieces when someone is watching the progress."""
+    G0 = float(kernels.braking_norm(model.kernel, y0, p)) if b > 0 else 1.0
+    edges = np.unique(np.linspace(0, len(t) - 1, CHUNKS + 1 if progress else 2).astype(int))
+    Ys, y, h, nfev, nsteps = [y0[None, :]], y0, 0.0, 0, 0
+    status, t_last = dop853.OK, t[0]
+    for i0, i1 in zip(edges[:-1], edges[1:], strict=True):
+        seg = np.ascontiguousarray(t[i0:i1 + 1], dtype=float)
+        Y, n, status, t_last, y_last, fe, st, h = dop853.integrate(
+            model.kernel, y, p, seg, rtol, atol, b, lam, MAX_STEPS - nsteps, h, G0)
+        nfev, nsteps = nfev + fe, nsteps + st
+        Ys.append(Y[1:n])
+        if status != dop853.OK:
+            if t_last > (seg[n - 1] if n else -np.inf):
+                Ys.append(y_last[None, :])
+            break
+        y = Y[n - 1].copy()
+        if progress:
+            progress((t[i1] - t[0]) / (t[-1] - t[0]))
+    Y = np.vstack(Ys)
+    t_out = t[: len(Y)].copy()
+    if status != dop853.OK:
+        t_out[-1] = t_last
+    if status in (dop853.NONFINITE, dop853.UNDERFLOW, dop853.MAX_STEPS):
+        raise IntegrationFault(dop853.STATUS_TEXT[status], float(t_last))
+    return Y, t_out, dict(method="DOP853 (compiled)", nfev=int(nfev), steps=int(nsteps),
+                          stop_reason=dop853.STATUS_TEXT[status], t_stop=float(t_out[-1]))
 
 
 def _scipy(model, p, y0, t, method, rtol, atol, b):

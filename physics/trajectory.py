@@ -45,5 +45,12 @@ class Trajectory:
         """Write every column at full double precision (17 significant digits)."""
         np.savetxt(path, self.table(), delimiter=",", header=",".join(self.columns), comments="", fmt="%.17g")
 
+    def slice(self, start: int, stop: int | None = None) -> Trajectory:
+        """Rows start:stop, sharing info."""
+        sl = np.s_[start:stop]
+        return Trajectory(t=self.t[sl], theta=self.theta[sl], K=self.K[sl], E=self.E[sl], omega=self.omega[sl],
+                          quat=self.quat[sl], internal={k: v[sl] for k, v in self.internal.items()},
+                          info=self.info)
+
     def __len__(self) -> int:
         return len(self.t)

@@ -43,11 +43,13 @@ STATUS_TEXT = {
 
 
 @njit(cache=True)
-def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps):
+def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps, h0, G0):
     """Integrate from t_out[0] and store the state at each t_out.
 
-    Returns (Y, n_filled, status, t_last, y_last, nfev, nsteps): Y[:n_filled] are valid; on an
-    early stop, (t_last, y_last) is the last accepted state.
+    ``h0`` > 0 continues with a known step size (a run split into chunks), otherwise a first step
+    is guessed. ``G0`` is the initial |G| that the braking end is measured against.
+    Returns (Y, n_filled, status, t_last, y_last, nfev, nsteps, h): Y[:n_filled] are valid; on an
+    early stop, (t_last, y_last) is the last accepted state; h is the step size to continue with.
     """
     n = y0.size
     n_out = t_out.size
@@ -63,7 +65,6 @@ def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps):
     nfev = 1
     nsteps = 0
     status = 0
-    G0 = braking_norm(model, y, p) if b > 0.0 else 1.0
 
     # initial step from the size of y and f (Hairer's first guess, simplified)
     d0 = 0.0
@@ -75,6 +76,8 @@ def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps):
     d0 = math.sqrt(d0 / n)
     d1 = math.sqrt(d1 / n)
     h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    if h0 > 0.0:
+        h = h0
     span = t_out[n_out - 1] - t
     h = min(h, span) if span > 0 else h
 
@@ -154,4 +157,4 @@ def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps):
                 i_out += 1
         else:
             h = h_try * max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)
-    return Y, i_out, status, t, y, nfev, nsteps
+    return Y, i_out, status, t, y, nfev, nsteps, h
