@@ -215,16 +215,6 @@ class Run:
         return np.linspace(0.0, self.t_end, self.samples)
 
 
-SECTIONS = {
-    "body": Body,
-    "mass": Mass,
-    "cavity": Cavity,
-    "medium": Medium,
-    "control": Control,
-    "initial": Initial,
-    "run": Run,
-}
-
 # TOML key -> dataclass field, where the paper's name is a Python keyword.
 RENAMED = {("medium", "lambda"): "lambda_"}
 

@@ -14,7 +14,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import ScenarioError
-from .params import RENAMED, SECTIONS, Body, Cavity, Control, Initial, Mass, Medium, Run
+from .params import RENAMED, Body, Cavity, Control, Initial, Mass, Medium, Run
+from .params_pendulum import Pendulum, PlanePendulum
+
+SECTIONS = {"body": Body, "mass": Mass, "pendulum": Pendulum, "plane_pendulum": PlanePendulum, "cavity": Cavity,
+            "medium": Medium, "control": Control, "initial": Initial, "run": Run}
+ARRAY_TABLES = {"plane_pendulum"}  # written [[plane_pendulum]], one table per pendulum
+FIELD = {"plane_pendulum": "plane_pendulums"}  # table name -> Scenario attribute where they differ
 
 MAX_BYTES = 1_000_000  # a scenario is a few hundred bytes; a cap keeps uploads harmless
 
@@ -27,6 +33,8 @@ class Scenario:
     initial: Initial
     run: Run
     mass: Mass | None = None
+    pendulum: Pendulum | None = None
+    plane_pendulums: tuple[PlanePendulum, ...] = ()
     cavity: Cavity | None = None
     medium: Medium | None = None
     control: Control | None = None
@@ -35,6 +43,27 @@ class Scenario:
         if self.mass is not None and self.mass.m >= self.body.M:
             raise ScenarioError("mass.m", self.mass.m,
                                 f"must be less than body.M = {self.body.M:g} (M is the total mass)")
+        parts = [name for name, present in (("mass", self.mass is not None), ("pendulum", self.pendulum is not None),
+                                            ("plane_pendulum", bool(self.plane_pendulums))) if present]
+        if len(parts) > 1:
+            raise ScenarioError(parts[1], "(table)", f"cannot be combined with [{parts[0]}]: one internal part at a time")
+        bobs = ([self.pendulum] if self.pendulum else []) + list(self.plane_pendulums)
+        if bobs:
+            total = sum(b.m for b in bobs)
+            if total >= self.body.M:
+                raise ScenarioError(parts[0] + ".m", total, f"(all bobs) must be less than body.M = {self.body.M:g}")
+            for extra in ("cavity", "medium", "control"):
+                if getattr(self, extra) is not None:
+                    raise ScenarioError(extra, "(table)", "is not supported together with pendulum dampers")
+
+    @property
+    def system(self) -> str:
+        """Which registered system runs this scenario."""
+        if self.pendulum is not None:
+            return "spherical_pendulum"
+        if self.plane_pendulums:
+            return "plane_pendulums"
+        return "moving_mass"
 
     # ---- construction -------------------------------------------------------------------
     @classmethod
@@ -45,6 +74,13 @@ class Scenario:
         for table, value in data.items():
             if table not in SECTIONS:
                 raise ScenarioError(str(table), "(table)", "unknown table; allowed: " + ", ".join(SECTIONS))
+            if table in ARRAY_TABLES:
+                if isinstance(value, dict):
+                    value = [value]
+                if not isinstance(value, list) or not value or not all(isinstance(v, dict) for v in value):
+                    raise ScenarioError(table, value, f"must be one or more tables [[{table}]]")
+                kwargs[FIELD[table]] = tuple(_build(table, v, f"{table}[{i}]") for i, v in enumerate(value))
+                continue
             if not isinstance(value, dict):
                 raise ScenarioError(str(table), value, "must be a table [" + str(table) + "]")
             kwargs[table] = _build(table, value)
@@ -79,26 +115,21 @@ class Scenario:
     def to_dict(self) -> dict:
         out = {}
         for table in SECTIONS:
-            section = getattr(self, table)
-            if section is None:
-                continue
-            items = {}
-            for f in dataclasses.fields(section):
-                value = getattr(section, f.name)
-                if value is None:
-                    continue
-                items[f.name] = list(value) if isinstance(value, tuple) else value
-            back = {f: k for k, f in _toml_names(table).items()}
-            items = {back[k]: v for k, v in items.items()}
-            out[table] = items
+            section = getattr(self, FIELD.get(table, table))
+            if table in ARRAY_TABLES:
+                if section:
+                    out[table] = [_items(table, s) for s in section]
+            elif section is not None:
+                out[table] = _items(table, section)
         return out
 
     def to_toml(self) -> str:
         lines = []
         for table, items in self.to_dict().items():
-            lines.append(f"[{table}]")
-            lines += [f"{k} = {_toml_value(v)}" for k, v in items.items()]
-            lines.append("")
+            for block in items if table in ARRAY_TABLES else [items]:
+                lines.append(f"[[{table}]]" if table in ARRAY_TABLES else f"[{table}]")
+                lines += [f"{k} = {_toml_value(v)}" for k, v in block.items()]
+                lines.append("")
         return "\n".join(lines)
 
     def replace(self, **changes) -> Scenario:
@@ -125,20 +156,36 @@ def _toml_names(table: str) -> dict[str, str]:
     return {back.get(f, f): f for f in fields}
 
 
-def _build(table: str, values: dict):
+def _items(table: str, section) -> dict:
+    back = {f: k for k, f in _toml_names(table).items()}
+    items = {}
+    for f in dataclasses.fields(section):
+        value = getattr(section, f.name)
+        if value is not None:
+            items[back[f.name]] = list(value) if isinstance(value, tuple) else value
+    return items
+
+
+def _build(table: str, values: dict, where: str | None = None):
+    where = where or table
     cls = SECTIONS[table]
     names = _toml_names(table)
     kwargs = {}
     for key, value in values.items():
         if key not in names:
-            raise ScenarioError(f"{table}.{key}", value, "unknown key; allowed: " + ", ".join(names))
+            raise ScenarioError(f"{where}.{key}", value, "unknown key; allowed: " + ", ".join(names))
         kwargs[names[key]] = value
     required = [k for k, f in names.items()
                 if next(x for x in dataclasses.fields(cls) if x.name == f).default is dataclasses.MISSING]
     for key in required:
         if key not in values:
-            raise ScenarioError(f"{table}.{key}", "(missing)", "is required")
-    return cls(**kwargs)
+            raise ScenarioError(f"{where}.{key}", "(missing)", "is required")
+    try:
+        return cls(**kwargs)
+    except ScenarioError as exc:
+        if where != table and exc.key.startswith(table):  # name which pendulum: plane_pendulum[2].arm
+            raise ScenarioError(where + exc.key[len(table):], exc.value, exc.allowed) from None
+        raise
 
 
 def _toml_value(v) -> str:

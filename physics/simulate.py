@@ -11,12 +11,12 @@ from scipy.integrate import solve_ivp
 from .compiled import dispatch as kernels
 from .compiled import dop853
 from .errors import IntegrationFault, ScenarioError, ValidityWarning
-from .models.base import Model, get_model
+from .models.base import REGISTRY, Model, get_model
 from .scenario import Scenario
 from .trajectory import Trajectory
-from .validity import averaged_conditions, choose_fidelity, closed_form_available
+from .validity import choose_fidelity, closed_form_available, conditions
 
-SYSTEM = "moving_mass"
+SYSTEM = "moving_mass"  # the closed forms' availability check is this system's
 ATOL_FACTOR = 1e-6  # atol = rtol * ATOL_FACTOR * max|y0|: keeps the small mass displacement resolved
 MAX_STEPS = 200_000_000
 CHUNKS = 50  # progress granularity; each chunk restarts the compiled loop with the last step size
@@ -41,15 +41,20 @@ def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | N
     if fid == "auto":
         fid, reason = choose_fidelity(scenario)
     elif fid in ("averaged", "closed"):
-        failed = [str(c) for c in averaged_conditions(scenario) if not c.holds]
+        failed = [str(c) for c in conditions(scenario) if not c.holds]
         if failed:
             warnings.warn(f"the {fid} model is outside its validity conditions: " + "; ".join(failed),
                           ValidityWarning, stacklevel=2)
-        if fid == "closed":
+        if fid == "closed" and scenario.system == SYSTEM:
             ok, why = closed_form_available(scenario)
             if not ok:
                 raise ScenarioError("run.fidelity", "closed", f"is not available for this scenario: {why}")
-    model = get_model(SYSTEM, fid)
+    try:
+        model = get_model(scenario.system, fid)
+    except KeyError:
+        have = sorted(m.fidelity for m in REGISTRY.values() if m.system == scenario.system)
+        raise ScenarioError("run.fidelity", fid, f"is not available for {scenario.system}; it has: "
+                            + ", ".join(have)) from None
     t = scenario.run.times()
     lead = t[0] > 0  # output starts later than the initial state: integrate from 0, drop that row
     if lead:
@@ -104,7 +109,7 @@ def _compiled(model, p, y0, t, rtol, atol, b, lam, progress):
     t_out = t[: len(Y)].copy()
     if status != dop853.OK:
         t_out[-1] = t_last
-    if status in (dop853.NONFINITE, dop853.UNDERFLOW, dop853.MAX_STEPS):
+    if status in (dop853.NONFINITE, dop853.UNDERFLOW, dop853.MAX_STEPS, dop853.MODEL_FAULT):
         raise IntegrationFault(dop853.STATUS_TEXT[status], float(t_last))
     return Y, t_out, dict(method="DOP853 (compiled)", nfev=int(nfev), steps=int(nsteps),
                           stop_reason=dop853.STATUS_TEXT[status], t_stop=float(t_out[-1]))

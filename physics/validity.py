@@ -68,8 +68,22 @@ def closed_form_available(sc: Scenario) -> tuple[bool, str]:
     return True, "closed form exists"
 
 
+# system -> (conditions(sc) -> list[Condition] for its averaged model, chooser(sc) -> (fidelity, reason));
+# systems other than the moving mass add themselves here from their own modules
+SYSTEMS: dict[str, tuple] = {}
+
+
+def conditions(sc: Scenario) -> list[Condition]:
+    """The averaged model's validity conditions for the scenario's system."""
+    if sc.system in SYSTEMS:
+        return SYSTEMS[sc.system][0](sc)
+    return averaged_conditions(sc)
+
+
 def choose_fidelity(sc: Scenario) -> tuple[str, str]:
     """The cheapest model whose validity conditions hold, and why."""
+    if sc.system in SYSTEMS:
+        return SYSTEMS[sc.system][1](sc)
     failed = [c for c in averaged_conditions(sc) if not c.holds]
     if failed:
         return "full", "averaged conditions fail: " + "; ".join(map(str, failed))

@@ -25,6 +25,13 @@ def rhs(model, t, y, p, out):
 
 
 @njit(cache=True)
+def fault(model, y, p):
+    """0 while the state is valid; a positive code when the model has reached a state it cannot
+    continue from (the gimbal singularity): the integrator stops there with status MODEL_FAULT."""
+    return 0
+
+
+@njit(cache=True)
 def braking_norm(model, y, p):
     """|G| for the braking law: the run ends when it reaches zero (seed 004 eq. (11))."""
     if model == MASS_FULL:

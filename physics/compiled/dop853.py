@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
-from .dispatch import braking_norm, rhs
+from .dispatch import braking_norm, fault, rhs
 
 N_STAGES = _dop.N_STAGES
 A_TAB = np.ascontiguousarray(_dop.A[:N_STAGES, :N_STAGES])
@@ -32,13 +32,14 @@ MAX_FACTOR = 10.0  # nor grow it by more than 10x
 ERROR_EXPONENT = -1.0 / 8.0  # error estimator order 7
 BRAKE_END = 1e-13  # |G|/G0 at which braking has ended (relative)
 
-OK, BRAKED, NONFINITE, UNDERFLOW, MAX_STEPS = 0, 1, 2, 3, 4
+OK, BRAKED, NONFINITE, UNDERFLOW, MAX_STEPS, MODEL_FAULT = 0, 1, 2, 3, 4, 5
 STATUS_TEXT = {
     OK: "reached t_end",
     BRAKED: "braking brought |G| to zero",
     NONFINITE: "state became non-finite (NaN or infinity)",
     UNDERFLOW: "step size underflow",
     MAX_STEPS: "too many steps",
+    MODEL_FAULT: "the spherical pendulum reached the gimbal singularity (|beta| -> 90 deg)",
 }
 
 
@@ -150,6 +151,9 @@ def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps, h0, G0):
             factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err ** ERROR_EXPONENT)
             if not clipped:
                 h = h_try * factor
+            if fault(model, y, p) > 0:
+                status = 5
+                break
             if t >= t_target - 1e-14 * max(1.0, abs(t_target)):
                 t = t_target
                 for i in range(n):
