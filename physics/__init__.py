@@ -7,7 +7,7 @@ Headless (numpy, scipy, numba); never imports the app or viser. The public API:
     physics.derived(sc)                  # F, D, L, H, P, Gamma1, ..., T, eps, Re, auto's choice
 """
 
-# closed: imported once physics/closed.py lands
+from . import closed
 from .coefficients import Coefficients, coefficients, initial_G
 from .defaults import default_scenario
 from .derived import derived
@@ -22,6 +22,6 @@ from .validity import averaged_conditions, choose_fidelity
 __all__ = [
     "Body", "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "Mass", "Medium", "Model",
     "REGISTRY", "Run", "Scenario", "ScenarioError", "Trajectory", "ValidityWarning", "averaged_conditions",
-    "choose_fidelity", "coefficients", "default_scenario", "derived", "get_model", "initial_G",
+    "choose_fidelity", "closed", "coefficients", "default_scenario", "derived", "get_model", "initial_G",
     "simulate",
 ]

@@ -46,7 +46,8 @@ class Scenario:
         parts = [name for name, present in (("mass", self.mass is not None), ("pendulum", self.pendulum is not None),
                                             ("plane_pendulum", bool(self.plane_pendulums))) if present]
         if len(parts) > 1:
-            raise ScenarioError(parts[1], "(table)", f"cannot be combined with [{parts[0]}]: one internal part at a time")
+            raise ScenarioError(parts[1], "(table)",
+                                f"cannot be combined with [{parts[0]}]: one internal part at a time")
         bobs = ([self.pendulum] if self.pendulum else []) + list(self.plane_pendulums)
         if bobs:
             total = sum(b.m for b in bobs)
