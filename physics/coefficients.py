@@ -44,20 +44,23 @@ class Coefficients:
         """Seed 000 (3.2): N = D/A."""
         return self.D / self.A
 
+    # Gamma1, Gamma2 and k* measure time in tau = lambda t: without a medium they are undefined (nan)
     @property
     def Gamma1(self) -> float:
         """Seed 004 (24), corrected: Gamma1 = H G0^2 / (lambda A^2 C)."""
-        return self.H * self.G0**2 / (self.lam * self.A**2 * self.C) if self.lam > 0 else math.inf * np.sign(self.H)
+        return self.H * self.G0**2 / (self.lam * self.A**2 * self.C) if self.lam > 0 else math.nan
 
     @property
     def Gamma2(self) -> float:
         """Seed 004 (24), corrected: Gamma2 = D G0^4 / (lambda A C^4)."""
-        return self.D * self.G0**4 / (self.lam * self.A * self.C**4) if self.lam > 0 else math.inf * np.sign(self.D)
+        return self.D * self.G0**4 / (self.lam * self.A * self.C**4) if self.lam > 0 else math.nan
 
     @property
     def k_star(self) -> float:
         """Seed 004 (24): k* = b / (lambda G0)."""
-        return self.b / (self.lam * self.G0) if self.lam > 0 else math.inf
+        if self.lam > 0:
+            return self.b / (self.lam * self.G0)
+        return math.inf if self.b > 0 else math.nan
 
     @property
     def gamma(self) -> float:
