@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 import pytest
+from reference_equations import rhs_004
 from scipy.integrate import solve_ivp
 
 from physics import closed as cf
@@ -24,18 +25,6 @@ REL_TOL = 1e-9  # relative
 ODE_RTOL = 1e-13
 ODE_ATOL = 1e-24
 STOP_FRACTION = 1e-9  # braking runs are compared up to T (1 - 1e-9)
-
-
-def rhs_004(t, w, A, C, F, D, L, H, lam, b):
-    """Seed 004 eq. (1) with control (8) and medium torque -lam J* w."""
-    p, q, r = w
-    G = math.sqrt(A * A * (p * p + q * q) + C * C * r * r)
-    wp2 = p * p + q * q
-    k = b / G if b else 0.0
-    dp = (-(C - A) * q * r - k * A * p + L * p * r * r + F * G * G * q * r + D * r**4 * p - lam * A * p) / A
-    dq = (-(A - C) * p * r - k * A * q + L * q * r * r - F * G * G * p * r + D * r**4 * q - lam * A * q) / A
-    dr = (-k * C * r + H * wp2 * r - (A / C) * D * r**3 * wp2 - lam * C * r) / C
-    return [dp, dq, dr]
 
 
 def rhs_25(t, w, A, C, Ac_of, B_of):
