@@ -1,1 +1,33 @@
-"""Compiled (numba, cache=True) right-hand sides and integrators. Nothing here imports models/."""
+"""Compiled (numba, cache=True) right-hand sides and integrators. Nothing here imports models/.
+
+numba invalidates a cached function only when its own file changes, not when a function it calls
+changes: after an edit to a kernel or to dispatch.py, the cached integrator would keep calling the
+old code. So the cache of this package is keyed on all of its sources together: when any file here
+changes, every cached entry is dropped before numba loads it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+
+def _drop_stale_cache() -> None:
+    here = Path(__file__).parent
+    digest = hashlib.sha256()
+    for src in sorted(here.glob("*.py")):
+        digest.update(src.name.encode() + src.read_bytes())
+    cache = here / "__pycache__"
+    stamp = cache / "sources.sha256"
+    try:
+        if stamp.exists() and stamp.read_text() == digest.hexdigest():
+            return
+        cache.mkdir(exist_ok=True)
+        for entry in list(cache.glob("*.nbi")) + list(cache.glob("*.nbc")):
+            entry.unlink()
+        stamp.write_text(digest.hexdigest())
+    except OSError:
+        pass  # a read-only install: numba then cannot write a cache either
+
+
+_drop_stale_cache()
