@@ -1,5 +1,6 @@
 """Derived quantities for ``python -m physics info``: the papers' coefficients, T, eps, Re, and
-the fidelity ``auto`` would choose, with its reason."""
+the fidelity ``auto`` would choose, with its reason. Pendulum scenarios get their linear theory
+instead (frequencies, tuning, decay rate and e-folding time; ``pendulum_linear_general``)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,10 @@ from .validity import choose_fidelity
 
 
 def derived(sc: Scenario) -> dict[str, float | str]:
+    if sc.system != "moving_mass":  # the pendulum dampers of seed 002: their linear theory
+        from .pendulum_linear_general import pendulum_derived
+
+        return pendulum_derived(sc)
     from .closed import braking_time
 
     co = coefficients(sc)

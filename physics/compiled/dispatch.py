@@ -11,9 +11,12 @@ from numba import njit
 
 from . import averaged as averaged_kernel
 from . import mass_full as mass_full_kernel
+from . import pendulum as pendulum_kernel
 
 MASS_FULL = 0
 MASS_AVERAGED = 1
+SPHERICAL_FULL = 2
+PLANE_FULL = 3
 
 
 @njit(cache=True)
@@ -22,12 +25,16 @@ def rhs(model, t, y, p, out):
         mass_full_kernel.rhs(t, y, p, out)
     elif model == MASS_AVERAGED:
         averaged_kernel.rhs(t, y, p, out)
+    elif model == SPHERICAL_FULL or model == PLANE_FULL:
+        pendulum_kernel.rhs(t, y, p, out)
 
 
 @njit(cache=True)
 def fault(model, y, p):
     """0 while the state is valid; a positive code when the model has reached a state it cannot
     continue from (the gimbal singularity): the integrator stops there with status MODEL_FAULT."""
+    if model == SPHERICAL_FULL:
+        return pendulum_kernel.fault(y, p)
     return 0
 
 
@@ -36,4 +43,6 @@ def braking_norm(model, y, p):
     """|G| for the braking law: the run ends when it reaches zero (seed 004 eq. (11))."""
     if model == MASS_FULL:
         return mass_full_kernel.braking_norm(y, p)
+    if model == SPHERICAL_FULL or model == PLANE_FULL:
+        return 1.0  # no braking law for the pendulum systems
     return averaged_kernel.braking_norm(y, p)

@@ -1,0 +1,330 @@
+"""Compiled right-hand sides of the full pendulum-damper models, MODELS.md Part B section 2.
+
+A carrier of general inertia I_c (3x3 about its own COM G_B, symmetric positive definite, products
+of inertia allowed) carries N point bobs. No external loads, so the system COM O is fixed and the
+carrier's translation is eliminated exactly (the reduced Lagrangian of B.2):
+
+    L = 1/2 w.I_c.w + 1/2 sum m_i |v_i|^2 - |sum m_i v_i|^2 / (2 M) - V,   v_i = w x r_i + J_i q_i'.
+
+Its equations, linear in X = [w'; q''] and solved each call by Cholesky (the matrix is the SPD mass
+matrix of L), are
+
+    carrier:  I_c w' + w x (I_c w) + sum m_i r_i x A_i = 0
+    joint i:  m_i J_i^T A_i = -k_i q_i - c_i q_i'
+    A_i = a_i - sum_j m_j a_j / M,
+    a_i = w' x r_i + w x (w x r_i) + 2 w x (J_i q_i') + sum_ab r_i,ab q_a' q_b' + J_i q_i''.
+
+Geometries (``kind`` = p[0]):
+- 0, spherical pendulum (Alger), one bob: q = (alpha, beta), arm e = R_x(alpha) R_y(beta) e3 =
+  (sin b, -sin a cos b, cos a cos b), r = pivot + l e; spring k and damper c_d on both angles.
+  The Cardan angles are singular at |beta| = 90 deg (``fault``).
+- 1, N plane pendulums (Taylor): q_i = a_i, r_i = hinge_i + l_i (cos a_i e0_i + sin a_i f_i),
+  f_i = n_i x e0_i; spring k_i, damper c_i.
+
+State (3 + 2 nq + 5), nq = 2 (spherical) or N (plane): w (3) carrier angular velocity, body
+components, rad/s; q (nq) rad; q' (nq) rad/s; quaternion (4), scalar first, body -> inertial;
+W (1) work dissipated by the dampers, J.
+
+Parameters p (12 + 16 N), see ``physics.models.pendulum.pack``:
+    p[0]  kind (0 spherical, 1 plane)     p[1]  N, number of bobs     p[2]  M, total mass (kg)
+    p[3:12]  I_c row-major (kg m^2, about G_B, body axes)
+    bob i at o = 12 + 16 i:  p[o] m (kg), p[o+1] l (m), p[o+2] k (N m/rad), p[o+3] c (N m s/rad),
+        p[o+4:o+7] pivot or hinge point from G_B (m), p[o+7:o+10] unit hinge axis n,
+        p[o+10:o+13] unit arm direction at rest e0, p[o+13:o+16] f = n x e0.
+    (For the spherical pendulum n = e1, e0 = e3, f = -e2; the kernel uses only the pivot.)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+HEADER = 12
+BOB = 16
+SPHERICAL, PLANE = 0, 1
+GIMBAL_LIMIT = 1e-3  # |cos beta| below which the Cardan angles are given up (mass matrix ~ cos^2 beta)
+
+
+def n_params(n_bobs: int) -> int:
+    return HEADER + BOB * n_bobs
+
+
+def n_coordinates(kind: int, n_bobs: int) -> int:
+    return 2 if kind == SPHERICAL else n_bobs
+
+
+def n_state(kind: int, n_bobs: int) -> int:
+    return 3 + 2 * n_coordinates(kind, n_bobs) + 5
+
+
+@njit(cache=True)
+def _sizes(p):
+    nb = int(p[1])
+    nq = 2 if p[0] == SPHERICAL else nb
+    return nb, nq
+
+
+@njit(cache=True)
+def _geometry(y, p, R, Jq, Cq):
+    """Bob positions R (N, 3) from G_B, their Jacobians Jq (N, 3, nq) = dr_i/dq and the velocity-
+    quadratic terms Cq (N, 3) = sum_ab d2 r_i/dq_a dq_b q_a' q_b'."""
+    nb, nq = _sizes(p)
+    Jq[:] = 0.0
+    if p[0] == SPHERICAL:
+        o = HEADER
+        l = p[o + 1]
+        a, b = y[3], y[4]
+        ad, bd = y[5], y[6]
+        sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
+        e = (sb, -sa * cb, ca * cb)
+        ea = (0.0, -ca * cb, -sa * cb)
+        eb = (cb, sa * sb, -ca * sb)
+        eaa = (0.0, sa * cb, -ca * cb)
+        eab = (0.0, ca * sb, sa * sb)
+        ebb = (-sb, sa * cb, -ca * cb)
+        for j in range(3):
+            R[0, j] = p[o + 4 + j] + l * e[j]
+            Jq[0, j, 0] = l * ea[j]
+            Jq[0, j, 1] = l * eb[j]
+            Cq[0, j] = l * (eaa[j] * ad * ad + 2.0 * eab[j] * ad * bd + ebb[j] * bd * bd)
+    else:
+        for i in range(nb):
+            o = HEADER + BOB * i
+            l = p[o + 1]
+            a, ad = y[3 + i], y[3 + nq + i]
+            sa, ca = math.sin(a), math.cos(a)
+            for j in range(3):
+                u = ca * p[o + 10 + j] + sa * p[o + 13 + j]  # arm direction
+                R[i, j] = p[o + 4 + j] + l * u
+                Jq[i, j, i] = l * (ca * p[o + 13 + j] - sa * p[o + 10 + j])
+                Cq[i, j] = -l * u * ad * ad
+
+
+@njit(cache=True)
+def _velocities(y, p, R, Jq, V):
+    """Bob velocities relative to G_B, v_i = w x r_i + J_i q' (N, 3)."""
+    nb, nq = _sizes(p)
+    w1, w2, w3 = y[0], y[1], y[2]
+    for i in range(nb):
+        V[i, 0] = w2 * R[i, 2] - w3 * R[i, 1]
+        V[i, 1] = w3 * R[i, 0] - w1 * R[i, 2]
+        V[i, 2] = w1 * R[i, 1] - w2 * R[i, 0]
+        for j in range(3):
+            for a in range(nq):
+                V[i, j] += Jq[i, j, a] * y[3 + nq + a]
+
+
+@njit(cache=True)
+def _state_geometry(y, p):
+    nb, nq = _sizes(p)
+    R = np.empty((nb, 3))
+    Jq = np.empty((nb, 3, nq))
+    Cq = np.empty((nb, 3))
+    V = np.empty((nb, 3))
+    _geometry(y, p, R, Jq, Cq)
+    _velocities(y, p, R, Jq, V)
+    return R, Jq, Cq, V
+
+
+@njit(cache=True)
+def momentum(y, p):
+    """Angular momentum about the system COM O, body components (MODELS B.2 "Invariants"):
+    H = I_c w + sum m_i r_i x v_i - (sum m_i r_i) x (sum m_i v_i) / M."""
+    nb, _ = _sizes(p)
+    R, _, _, V = _state_geometry(y, p)
+    M = p[2]
+    H = np.zeros(3)
+    sr = np.zeros(3)
+    sv = np.zeros(3)
+    for j in range(3):
+        for k in range(3):
+            H[j] += p[3 + 3 * j + k] * y[k]
+    for i in range(nb):
+        m = p[HEADER + BOB * i]
+        H[0] += m * (R[i, 1] * V[i, 2] - R[i, 2] * V[i, 1])
+        H[1] += m * (R[i, 2] * V[i, 0] - R[i, 0] * V[i, 2])
+        H[2] += m * (R[i, 0] * V[i, 1] - R[i, 1] * V[i, 0])
+        for j in range(3):
+            sr[j] += m * R[i, j]
+            sv[j] += m * V[i, j]
+    H[0] -= (sr[1] * sv[2] - sr[2] * sv[1]) / M
+    H[1] -= (sr[2] * sv[0] - sr[0] * sv[2]) / M
+    H[2] -= (sr[0] * sv[1] - sr[1] * sv[0]) / M
+    return H
+
+
+@njit(cache=True)
+def energy(y, p):
+    """Kinetic energy of carrier and bobs (translation of the carrier included) plus spring energy, J."""
+    nb, nq = _sizes(p)
+    R, _, _, V = _state_geometry(y, p)
+    M = p[2]
+    T = 0.0
+    for j in range(3):
+        for k in range(3):
+            T += 0.5 * y[j] * p[3 + 3 * j + k] * y[k]
+    sv = np.zeros(3)
+    for i in range(nb):
+        m = p[HEADER + BOB * i]
+        for j in range(3):
+            T += 0.5 * m * V[i, j] * V[i, j]
+            sv[j] += m * V[i, j]
+    T -= 0.5 * (sv[0] * sv[0] + sv[1] * sv[1] + sv[2] * sv[2]) / M
+    U = 0.0
+    for a in range(nq):
+        U += 0.5 * _spring(p, a) * y[3 + a] * y[3 + a]
+    return T + U
+
+
+@njit(cache=True)
+def _spring(p, a):
+    """k of coordinate a."""
+    return p[HEADER + 2] if p[0] == SPHERICAL else p[HEADER + BOB * a + 2]
+
+
+@njit(cache=True)
+def _damper(p, a):
+    """c of coordinate a."""
+    return p[HEADER + 3] if p[0] == SPHERICAL else p[HEADER + BOB * a + 3]
+
+
+@njit(cache=True)
+def _cholesky_solve(Mm, x):
+    """Solve Mm z = x in place (x <- z) for a symmetric positive-definite Mm (overwritten).
+    A pivot that is not positive (only at the gimbal singularity, to rounding) gives z = NaN, which
+    makes the integrator shrink its step instead of dividing by zero."""
+    n = x.size
+    for j in range(n):
+        s = Mm[j, j]
+        for k in range(j):
+            s -= Mm[j, k] * Mm[j, k]
+        if not s > 0.0:
+            x[:] = np.nan
+            return
+        d = math.sqrt(s)
+        Mm[j, j] = d
+        for i in range(j + 1, n):
+            s = Mm[i, j]
+            for k in range(j):
+                s -= Mm[i, k] * Mm[j, k]
+            Mm[i, j] = s / d
+    for i in range(n):
+        s = x[i]
+        for k in range(i):
+            s -= Mm[i, k] * x[k]
+        x[i] = s / Mm[i, i]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for k in range(i + 1, n):
+            s -= Mm[k, i] * x[k]
+        x[i] = s / Mm[i, i]
+
+
+@njit(cache=True)
+def accelerations(y, p):
+    """X = [w'; q''] of MODELS B.2: the mass matrix and right side are assembled from
+    P_i = [e_j x r_i | J_i] (so v_i = P_i [w; q']) and solved."""
+    nb, nq = _sizes(p)
+    n = 3 + nq
+    R, Jq, Cq, _ = _state_geometry(y, p)
+    M = p[2]
+    w = y[0:3]
+    qd = y[3 + nq:3 + 2 * nq]
+    Mm = np.zeros((n, n))
+    rhs = np.zeros(n)
+    S = np.zeros((3, n))  # sum_i m_i P_i
+    sb = np.zeros(3)  # sum_i m_i b_i
+    P = np.empty((3, n))
+    bi = np.empty(3)
+    Iw = np.zeros(3)
+    for j in range(3):
+        for k in range(3):
+            Mm[j, k] = p[3 + 3 * j + k]
+            Iw[j] += p[3 + 3 * j + k] * w[k]
+    rhs[0] = -(w[1] * Iw[2] - w[2] * Iw[1])
+    rhs[1] = -(w[2] * Iw[0] - w[0] * Iw[2])
+    rhs[2] = -(w[0] * Iw[1] - w[1] * Iw[0])
+    for a in range(nq):
+        rhs[3 + a] = -_spring(p, a) * y[3 + a] - _damper(p, a) * qd[a]
+    for i in range(nb):
+        m = p[HEADER + BOB * i]
+        r = R[i]
+        # columns of P_i: e_j x r for the carrier, dr_i/dq for the joints
+        P[0, 0], P[1, 0], P[2, 0] = 0.0, -r[2], r[1]
+        P[0, 1], P[1, 1], P[2, 1] = r[2], 0.0, -r[0]
+        P[0, 2], P[1, 2], P[2, 2] = -r[1], r[0], 0.0
+        for j in range(3):
+            for a in range(nq):
+                P[j, 3 + a] = Jq[i, j, a]
+        # b_i: the part of a_i without X, w x (w x r) + 2 w x (J q') + Cq
+        wr0 = w[1] * r[2] - w[2] * r[1]
+        wr1 = w[2] * r[0] - w[0] * r[2]
+        wr2 = w[0] * r[1] - w[1] * r[0]
+        g0 = g1 = g2 = 0.0
+        for a in range(nq):
+            g0 += Jq[i, 0, a] * qd[a]
+            g1 += Jq[i, 1, a] * qd[a]
+            g2 += Jq[i, 2, a] * qd[a]
+        bi[0] = w[1] * wr2 - w[2] * wr1 + 2.0 * (w[1] * g2 - w[2] * g1) + Cq[i, 0]
+        bi[1] = w[2] * wr0 - w[0] * wr2 + 2.0 * (w[2] * g0 - w[0] * g2) + Cq[i, 1]
+        bi[2] = w[0] * wr1 - w[1] * wr0 + 2.0 * (w[0] * g1 - w[1] * g0) + Cq[i, 2]
+        for u in range(n):
+            for v in range(n):
+                Mm[u, v] += m * (P[0, u] * P[0, v] + P[1, u] * P[1, v] + P[2, u] * P[2, v])
+            rhs[u] -= m * (P[0, u] * bi[0] + P[1, u] * bi[1] + P[2, u] * bi[2])
+            for j in range(3):
+                S[j, u] += m * P[j, u]
+        for j in range(3):
+            sb[j] += m * bi[j]
+    # the carrier COM accelerates at -Abar: subtract the bobs' common part (rank-3 update)
+    for u in range(n):
+        for v in range(n):
+            Mm[u, v] -= (S[0, u] * S[0, v] + S[1, u] * S[1, v] + S[2, u] * S[2, v]) / M
+        rhs[u] += (S[0, u] * sb[0] + S[1, u] * sb[1] + S[2, u] * sb[2]) / M
+    _cholesky_solve(Mm, rhs)
+    return rhs
+
+
+@njit(cache=True)
+def rhs(t, y, p, out):
+    _, nq = _sizes(p)
+    X = accelerations(y, p)
+    w1, w2, w3 = y[0], y[1], y[2]
+    out[0] = X[0]
+    out[1] = X[1]
+    out[2] = X[2]
+    power = 0.0
+    for a in range(nq):
+        qd = y[3 + nq + a]
+        out[3 + a] = qd
+        out[3 + nq + a] = X[3 + a]
+        power += _damper(p, a) * qd * qd
+    o = 3 + 2 * nq
+    qw, qx, qy, qz = y[o], y[o + 1], y[o + 2], y[o + 3]
+    out[o] = -0.5 * (qx * w1 + qy * w2 + qz * w3)
+    out[o + 1] = 0.5 * (qw * w1 + qy * w3 - qz * w2)
+    out[o + 2] = 0.5 * (qw * w2 + qz * w1 - qx * w3)
+    out[o + 3] = 0.5 * (qw * w3 + qx * w2 - qy * w1)
+    out[o + 4] = power
+
+
+@njit(cache=True)
+def fault(y, p):
+    """1 at the spherical pendulum's gimbal singularity (|cos beta| < GIMBAL_LIMIT), else 0."""
+    if p[0] == SPHERICAL and abs(math.cos(y[4])) < GIMBAL_LIMIT:
+        return 1
+    return 0
+
+
+@njit(cache=True)
+def observe(Y, p):
+    """Total H (n, 3, body components, about O) and energy E (n,) along a trajectory Y (n, ny)."""
+    n = Y.shape[0]
+    H = np.empty((n, 3))
+    E = np.empty(n)
+    for i in range(n):
+        H[i] = momentum(Y[i], p)
+        E[i] = energy(Y[i], p)
+    return H, E

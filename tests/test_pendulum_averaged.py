@@ -1,0 +1,217 @@
+"""The averaged spherical-pendulum model (MODELS B.6) against the full model, its O(eps) accuracy, and the
+fidelity choice with the limits of B.10 (physics/pendulum_averaged.py)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import physics
+from physics import pendulum_averaged as pa
+from physics import pendulum_linear as pl
+from physics.pendulum_system import pendulum_system
+from physics.validity import choose_fidelity, conditions
+
+deg = math.pi / 180
+EPS = [1.0, 1 / 2, 1 / 4, 1 / 8, 1 / 16, 1 / 32]
+B6_RATE_ERRORS = [0.178, 0.107, 0.057, 0.029, 0.015, 0.0074]  # MODELS B.6, relative, eps = 1 ... 1/32
+ORDER_TOL = 0.1  # fitted convergence order against the expected one
+QUOTE_TOL = 0.02  # relative, our errors against the rounded numbers B.6 quotes
+ATTITUDE_TOL = 1e-8  # the Magnus attitude against a tight DOP853 integration of the same omega
+LIMIT_ERROR = 0.06  # largest relative rate error allowed inside all the validity limits
+
+
+def scaled(eps: float, *, theta0: float = 1 * deg, t_end: float | None = None, samples: int = 4001,
+           c_d: float | None = None, k="resonant", B: float | None = None) -> physics.Scenario:
+    """Set R with the coupling D (through h) and the damping c_d both scaled by eps (MODELS B.6's test)."""
+    M0, m, l, W = 500.0, 5.0, 1.0, 2.0
+    h = -l + 0.3 * eps
+    A = 100.0 + m * (M0 + m) * (h + l) ** 2 / M0
+    return physics.Scenario.from_dict({
+        "body": {"A": A, "B": A if B is None else B, "C": 150.0, "M": M0 + m},
+        "pendulum": {"m": m, "l": l, "h": h, "k": k, "c_d": 8.0 * eps if c_d is None else c_d},
+        "initial": {"omega": [150.0 * W * math.tan(theta0) / A, 0.0, W]},
+        "run": {"t_end": 60.0 / eps if t_end is None else t_end, "samples": samples, "rtol": 1e-11},
+    })
+
+
+def full_jacobian_rate(sc: physics.Scenario, step: float = 1e-5) -> float:
+    """Slowest decay rate of the FULL model linearised about steady spin (central differences), 1/s."""
+    model = physics.get_model("spherical_pendulum", "full")
+    p = model.pack(sc)
+    y0 = model.initial_state(sc, p)
+    y0[:2] = 0.0
+    J = np.empty((7, 7))
+    for j in range(7):
+        e = np.zeros_like(y0)
+        e[j] = step
+        J[:, j] = (model.rhs(0.0, y0 + e, p)[:7] - model.rhs(0.0, y0 - e, p)[:7]) / (2 * step)
+    lam = np.linalg.eigvals(J)
+    lam = np.delete(lam, np.argmin(np.abs(lam)))  # omega_z's zero
+    return float(-np.max(lam.real))
+
+
+def order(eps, err) -> float:
+    return float(np.polyfit(np.log(eps), np.log(err), 1)[0])
+
+
+def both(sc):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", physics.ValidityWarning)
+        return physics.simulate(sc, fidelity="full"), physics.simulate(sc, fidelity="averaged")
+
+
+# ---- accuracy: O(eps) in the rate, O(eps^2) in the exponents ----------------------------------------
+
+def test_rate_error_against_the_full_model_is_first_order_in_eps():
+    errors = []
+    for eps in EPS:
+        sc = scaled(eps)
+        co = pa.AveragedCoefficients(pl.spherical_linear(pendulum_system(sc)))
+        full = full_jacobian_rate(sc)
+        errors.append(abs(co.slowest_rate() - full) / full)
+    assert errors == pytest.approx(B6_RATE_ERRORS, rel=QUOTE_TOL)
+    assert order(EPS[1:], errors[1:]) == pytest.approx(1.0, abs=ORDER_TOL)  # measured 0.94 ... 1.0
+    assert order(EPS[3:], errors[3:]) == pytest.approx(1.0, abs=0.02)
+
+
+def test_averaged_exponents_match_the_exact_roots_to_second_order():
+    errors = []
+    for eps in EPS[1:]:
+        p = pl.spherical_linear(pendulum_system(scaled(eps)))
+        co = pa.AveragedCoefficients(p)
+        exact = pl.characteristic_roots(p)
+        avg = co.exponents() + 1j * co.Omega  # body-frame exponents
+        errors.append(max(float(np.min(np.abs(exact - s))) for s in avg))
+    assert order(EPS[1:], errors) == pytest.approx(2.0, abs=ORDER_TOL)
+
+
+@pytest.mark.slow
+def test_averaged_trajectory_converges_to_the_full_one():
+    """0.1 deg (linear regime): omega and the pendulum swing of the averaged model approach the full
+    model's as O(eps); B.6's "eps = 1/4 and 1 deg: theta within 0.25 % of theta0" holds (0.245 %)."""
+    eps_list = [1 / 4, 1 / 8, 1 / 16]
+    w_err, z_err = [], []
+    for eps in eps_list:
+        f, a = both(scaled(eps, theta0=0.1 * deg, t_end=200 / eps))
+        w_err.append(np.max(np.abs(f.omega[:, :2] - a.omega[:, :2])) / f.omega[0, 0])
+        dz = np.hypot(f.internal["alpha"] - a.internal["alpha"], f.internal["beta"] - a.internal["beta"])
+        z_err.append(np.max(dz) / np.max(np.hypot(f.internal["alpha"], f.internal["beta"])))
+    assert order(eps_list, w_err) == pytest.approx(1.0, abs=ORDER_TOL)
+    assert order(eps_list, z_err) == pytest.approx(1.0, abs=ORDER_TOL)
+    assert max(w_err) < 0.012 and max(z_err) < 0.035  # body-frame signs agree: otherwise these are O(1)
+    f, a = both(scaled(1 / 4, theta0=1 * deg, t_end=240.0))
+    assert np.max(np.abs(f.theta - a.theta)) / f.theta[0] < 0.0025
+
+
+def test_averaged_starts_from_the_full_models_state_and_keeps_its_invariants():
+    f, a = both(scaled(1 / 8, theta0=1 * deg, t_end=200.0, samples=401))
+    assert np.allclose(a.omega[0], f.omega[0], rtol=1e-14) and np.allclose(a.quat[0], [1, 0, 0, 0])
+    assert a.theta[0] == pytest.approx(f.theta[0], rel=1e-12)
+    assert a.E[0] == pytest.approx(f.E[0], rel=1e-12) and np.all(a.K == pytest.approx(f.K[0], rel=1e-12))
+    assert a.internal["W_diss"][-1] == pytest.approx(f.internal["W_diss"][-1], rel=0.01)
+    assert np.allclose(a.E + a.internal["W_diss"], a.E[0], rtol=1e-12)
+    assert np.allclose(np.linalg.norm(a.quat, axis=1), 1.0, atol=1e-12)
+    assert np.max(np.abs(a.quat - f.quat)) < 0.02  # omega_z drifts at second order in the full model
+
+
+def test_attitude_integrates_the_closed_form_omega():
+    sc = scaled(1.0, theta0=10 * deg, t_end=100.0, samples=101)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", physics.ValidityWarning)
+        tr = physics.simulate(sc, fidelity="averaged")
+    co = pa.AveragedCoefficients(pl.spherical_linear(pendulum_system(sc)))
+    u0 = np.array([tr.omega[0, 0] + 0j, 0j])
+
+    def rhs(t, q):
+        w = (co.propagator(np.array([t]))[0] @ u0)[0] * np.exp(1j * co.Omega * t)
+        wx, wy, wz = w.real, w.imag, 2.0
+        q0, q1, q2, q3 = q
+        return 0.5 * np.array([-q1 * wx - q2 * wy - q3 * wz, q0 * wx + q2 * wz - q3 * wy,
+                               q0 * wy - q1 * wz + q3 * wx, q0 * wz + q1 * wy - q2 * wx])
+
+    ref = solve_ivp(rhs, (0, 100.0), [1.0, 0, 0, 0], method="DOP853", t_eval=tr.t, rtol=1e-12, atol=1e-14).y.T
+    assert np.max(np.abs(tr.quat - ref)) < ATTITUDE_TOL
+
+
+def test_propagator_is_exact_at_the_double_root():
+    """Where the two exponents coincide (as at the optimum) the closed-form e^{Mt} must stay exact."""
+    co = pa.AveragedCoefficients(pl.spherical_linear(pendulum_system(scaled(1 / 8))))
+    co.sigma = 0.1
+    co.kappa2 = (1j * co.sigma - co.gamma1) ** 2 / (4 * co.kappa1)  # tau^2/4 = det M: a double root
+    from scipy.linalg import expm
+
+    t = np.array([0.0, 1.0, 10.0, 100.0])
+    assert np.max(np.abs(co.propagator(t) - np.array([expm(co.matrix * s) for s in t]))) < 1e-12
+
+
+# ---- validity and the fidelity choice (B.10) ---------------------------------------------------
+
+def test_auto_chooses_averaged_only_inside_the_limits():
+    inside = scaled(1 / 8, theta0=0.5 * deg)
+    fid, why = choose_fidelity(inside)
+    assert fid == "averaged" and "hold" in why
+    assert physics.simulate(inside.with_values(**{"run.samples": 11})).info["model"] == "spherical_pendulum/averaged"
+    for sc, failing in [(scaled(1.0), "g / |Omega|"), (scaled(1 / 8, theta0=5 * deg), "theta0^2"),
+                        (scaled(1 / 8, theta0=0.5 * deg, B=110.0), "|A - B|"),
+                        (scaled(1 / 8, theta0=0.5 * deg, k=5.0 * 500 / 505 * 3.3**2), "|lambda_1 - Omega|")]:
+        fid, why = choose_fidelity(sc)
+        assert fid == "full" and failing in why
+
+
+def test_plane_pendulums_have_only_the_full_model():
+    sc = physics.Scenario.load("assets/scenarios/plane_pendulums_three.toml")
+    assert choose_fidelity(sc) == ("full", "plane pendulums have only the full model")
+    assert conditions(sc) == []
+
+
+def test_averaged_outside_its_limits_warns():
+    with pytest.warns(physics.ValidityWarning, match="g / |Omega|"):
+        physics.simulate(scaled(1.0, samples=11), fidelity="averaged")
+
+
+def test_rate_error_stays_small_inside_all_limits():
+    """The limits' justification: random set-R variants (D, c_d, k, C) that satisfy every condition keep
+    the averaged slowest rate within LIMIT_ERROR of the exact linear one (worst found: 5.6 %)."""
+    rng = np.random.default_rng(7)
+    worst, n = 0.0, 0
+    mu = 5.0 * 500.0 / 505.0
+    while n < 400:
+        C = rng.uniform(110.0, 190.0)
+        Om = (C - 100.0) * 2.0 / 100.0
+        w0 = 2.0 + Om * (1 + rng.uniform(-pa.DETUNING_MAX, pa.DETUNING_MAX))
+        p = pl.SphericalLinear(A=100.0, C=C, W=2.0, mu=mu, l=1.0, D=10 ** rng.uniform(-3, -0.5), k=mu * w0**2,
+                               c_d=10 ** rng.uniform(-3, 1))
+        co = pa.AveragedCoefficients(p)
+        g = math.sqrt(abs(co.kappa1 * co.kappa2))
+        if (p.mu * p.D**2 / p.A > pa.COUPLING_MAX or g / Om > pa.COUPLING_RATE_MAX
+                or p.ct / co.lambda1 > pa.DAMPING_MAX):
+            continue
+        exact = pl.slowest_decay_rate(p)
+        worst, n = max(worst, abs(co.slowest_rate() - exact) / exact), n + 1
+    assert worst < LIMIT_ERROR
+
+
+@pytest.mark.slow
+def test_amplitude_limit_keeps_the_full_decay_time_near_the_averaged_one():
+    """theta0^2 |Omega|/g = NONLINEAR_MAX at eps = 1/8: the full model's time to fall by e stays within
+    ~5 % of the averaged model's (the amplitude-dependent detuning moves it by about half the ratio);
+    at twice the amplitude it is off by ~4 times as much."""
+    p = pl.spherical_linear(pendulum_system(scaled(1 / 8)))
+    co = pa.AveragedCoefficients(p)
+    g = math.sqrt(abs(co.kappa1 * co.kappa2))
+    th = math.sqrt(pa.NONLINEAR_MAX * g / co.Omega)
+
+    def e_time(tr):
+        i = int(np.nonzero(tr.theta <= tr.theta[0] / math.e)[0][0])
+        return float(tr.t[i])
+
+    f, a = both(scaled(1 / 8, theta0=th, t_end=300.0, samples=30001))
+    at_limit = abs(e_time(f) - e_time(a)) / e_time(a)
+    f2, a2 = both(scaled(1 / 8, theta0=2 * th, t_end=400.0, samples=40001))
+    beyond = abs(e_time(f2) - e_time(a2)) / e_time(a2)
+    assert at_limit < 0.06 and beyond > 2.5 * at_limit
