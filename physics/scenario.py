@@ -56,6 +56,9 @@ class Scenario:
             for extra in ("cavity", "medium", "control"):
                 if getattr(self, extra) is not None:
                     raise ScenarioError(extra, "(table)", "is not supported together with pendulum dampers")
+            if self.initial.mass_state != "rest":
+                raise ScenarioError("initial.mass_state", self.initial.mass_state,
+                                    'must be "rest" with pendulum dampers: the bobs start at rest relative to the body')
 
     @property
     def system(self) -> str:

@@ -102,3 +102,12 @@ def test_auto_reports_choice_and_reason():
     assert tr.info["fidelity"] == "full" and "eps" in tr.info["reason"]
     tr = physics.simulate(physics.Scenario.from_dict(GOOD))
     assert tr.info["fidelity"] == "closed" and "hold" in tr.info["reason"]
+
+
+def test_pendulums_start_at_rest_only():
+    data = {"body": {"A": 100.5, "C": 150.0, "M": 505.0}, "pendulum": {"m": 5.0, "l": 1.0, "h": -0.7, "k": 40.0},
+            "initial": {"G0": 300.0, "theta0": 0.1, "mass_state": "quasistatic"}, "run": {"t_end": 1.0}}
+    with pytest.raises(ScenarioError, match="initial.mass_state = 'quasistatic': must be .rest. with pendulum"):
+        physics.Scenario.from_dict(data)
+    data["initial"]["mass_state"] = "rest"
+    assert physics.Scenario.from_dict(data).system == "spherical_pendulum"
