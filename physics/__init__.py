@@ -12,6 +12,7 @@ from .coefficients import Coefficients, coefficients, initial_G
 from .defaults import default_scenario
 from .derived import derived
 from .errors import IntegrationFault, ScenarioError, ValidityWarning
+from .live import LiveRun
 from .models import REGISTRY, Model, get_model
 from .params import Body, Cavity, Control, Initial, Mass, Medium, Run
 from .scenario import Scenario
@@ -20,7 +21,7 @@ from .trajectory import Trajectory
 from .validity import averaged_conditions, choose_fidelity
 
 __all__ = [
-    "Body", "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "Mass", "Medium", "Model",
+    "Body", "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "LiveRun", "Mass", "Medium", "Model",
     "REGISTRY", "Run", "Scenario", "ScenarioError", "Trajectory", "ValidityWarning", "averaged_conditions",
     "choose_fidelity", "closed", "coefficients", "default_scenario", "derived", "get_model", "initial_G",
     "simulate",

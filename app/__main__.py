@@ -1,0 +1,68 @@
+"""``python -m app``: serve the Quasirigid explorer (viser) and print its URL."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+LOOPBACK = ("127.0.0.1", "localhost", "::1")
+
+
+def parse(argv: list[str] | None = None) -> argparse.Namespace:
+    ap = argparse.ArgumentParser(prog="python -m app", description="Serve the Quasirigid explorer in the browser.")
+    ap.add_argument("--host", default="127.0.0.1",
+                    help="interface to bind (default 127.0.0.1; anything else exposes the explorer to the network)")
+    ap.add_argument("--port", type=int, default=8080, help="port (default 8080; 0 = any free port)")
+    ap.add_argument("--scenario", metavar="FILE.toml", help="open on this scenario instead of the default scene")
+    ap.add_argument("--mesh", metavar="FILE", help="draw the body as this closed mesh (STL, OBJ, PLY, GLB...); its "
+                    "inertia, as a uniform solid of the scenario's mass M, replaces A, B, C")
+    return ap.parse_args(argv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse(argv)
+    start = time.perf_counter()
+    print("Quasirigid explorer: loading the physics...", flush=True)
+    import physics
+
+    scenario = mesh = None
+    try:
+        if args.scenario:
+            scenario = physics.Scenario.load(args.scenario)
+        if args.mesh:
+            from .mesh import load_mesh, with_mesh
+
+            base = scenario or physics.default_scenario()
+            mesh = load_mesh(args.mesh, base.body.M)
+            scenario = with_mesh(base, mesh)
+            print(f"mesh {args.mesh}: principal moments A, B, C = {', '.join(f'{x:.6g}' for x in mesh.moments)} "
+                  "kg m^2", flush=True)
+        if scenario is not None:
+            physics.LiveRun(scenario)
+    except physics.ScenarioError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    from .server import App, warm_up
+
+    if args.host not in LOOPBACK:
+        print(f"warning: --host {args.host} makes the explorer reachable from other machines; it has no "
+              "authentication", file=sys.stderr, flush=True)
+    app = App(host=args.host, port=args.port, scenario=scenario, mesh=mesh)
+    shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
+    url = f"http://{shown}:{app.port}"
+    print(f"serving {url}; preparing the integrator (compiled once per machine, then cached)...", flush=True)
+    warm_up()
+    print(f"Quasirigid explorer ready in {time.perf_counter() - start:.1f} s: {url}", flush=True)
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        app.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,79 @@
+"""The explorer's presets: the built-in default, the scenario files in assets/scenarios, and a few
+scenes that have no file (pendulum dampers, seed 000's braking, the intermediate-axis flip)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import physics
+
+ASSETS = Path(__file__).resolve().parents[1] / "assets" / "scenarios"
+DEFAULT = "Default: oblate body settling (1 min)"
+
+# Scenes without a file. Each is a scenario dict in the TOML layout (README "Use").
+BUILT_IN: dict[str, dict] = {
+    "Braking, quasi-static viscoelastic mass (seed 000)": {
+        "body": {"A": 1.0, "C": 1.4, "M": 10.0},
+        "mass": {"m": 0.3, "rho": 1.5, "Omega": 20.0, "chi": 20.0},
+        "control": {"b": 0.005, "law": "Jw"},
+        "initial": {"G0": 1.0, "theta0": 0.7, "mass_state": "quasistatic"},
+        "run": {"fidelity": "auto", "t_end": 200.0},
+    },
+    "Spherical pendulum damper, resonant": {
+        "body": {"A": 1.0, "C": 1.4, "M": 1.0},
+        "pendulum": {"m": 0.05, "l": 0.3, "h": 0.5, "k": "resonant", "c_d": 0.01},
+        "initial": {"G0": 2.0, "theta0": 0.3},
+        "run": {"fidelity": "full", "t_end": 60.0},
+    },
+    "Spherical pendulum damper, detuned": {
+        "body": {"A": 1.0, "C": 1.4, "M": 1.0},
+        "pendulum": {"m": 0.05, "l": 0.3, "h": 0.5, "k": 0.05, "c_d": 0.01},
+        "initial": {"G0": 2.0, "theta0": 0.3},
+        "run": {"fidelity": "full", "t_end": 60.0},
+    },
+    "Plane pendulums (three, in the spin plane)": {
+        "body": {"A": 1.0, "C": 1.4, "M": 1.0},
+        "plane_pendulum": [{"preset": "in_plane", "m": 0.03, "l": 0.2, "k": 0.5, "c_d": 0.01, "R": 0.5,
+                            "azimuth": a} for a in (0.0, 2.0943951023931953, 4.1887902047863905)],
+        "initial": {"G0": 2.0, "theta0": 0.3},
+        "run": {"fidelity": "full", "t_end": 60.0},
+    },
+    "Asymmetric body: intermediate-axis flip": {
+        "body": {"A": 1.5, "B": 1.0, "C": 2.0, "M": 1.0},
+        "initial": {"omega": [2.0, 0.02, 0.02]},
+        "run": {"fidelity": "full", "t_end": 30.0},
+    },
+}
+
+FILE_TITLES = {
+    "oblate_settling": "Oblate body settling",
+    "prolate_flat_spin": "Explorer 1's flat spin",
+    "braking_cavity_medium": "Braking with a cavity and a medium (seed 004)",
+    "quadratic_friction": "Quadratic friction (seed 000)",
+}
+
+
+def preset_names() -> list[str]:
+    files = sorted(ASSETS.glob("*.toml")) if ASSETS.is_dir() else []
+    return [DEFAULT] + [FILE_TITLES.get(f.stem, f.stem) for f in files] + list(BUILT_IN)
+
+
+def load_preset(name: str) -> physics.Scenario:
+    """The scenario of a preset (ScenarioError if it no longer validates, KeyError if unknown)."""
+    if name == DEFAULT:
+        return physics.default_scenario()
+    if name in BUILT_IN:
+        return physics.Scenario.from_dict(BUILT_IN[name])
+    for f in sorted(ASSETS.glob("*.toml")):
+        if FILE_TITLES.get(f.stem, f.stem) == name:
+            return physics.Scenario.load(f)
+    raise KeyError(name)
+
+
+WARP_MIN, WARP_MAX = 0.1, 1e4
+PLAY_SECONDS = 40.0  # a preset's suggested warp plays its whole run in about this long
+
+
+def suggested_warp(sc: physics.Scenario) -> float:
+    """A warp that shows the preset's whole run in about PLAY_SECONDS, never below 1x."""
+    return float(min(WARP_MAX, max(1.0, sc.run.t_end / PLAY_SECONDS)))

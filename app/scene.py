@@ -1,0 +1,180 @@
+"""What the 3-D scene shows, as plain numbers (no viser here, so it is testable headless).
+
+Conventions (MODELS.md): body axes e1, e2, e3 are principal, e3 the symmetry axis; quaternions are
+scalar first (w, x, y, z) and rotate body components into inertial ones, which is viser's ``wxyz``.
+Lengths are metres; the server scales the whole scene so the body is about 1.5 units across.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
+E3 = np.array([0.0, 0.0, 1.0])
+
+
+# ---- quaternions -----------------------------------------------------------------------------
+
+def qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product a b (scalar first)."""
+    w1, x1, y1, z1 = a
+    w2, x2, y2, z2 = b
+    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+
+
+def qconj(q: np.ndarray) -> np.ndarray:
+    return np.array([q[0], -q[1], -q[2], -q[3]])
+
+
+def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """R(q) v for one quaternion q (4,) and vectors v (..., 3)."""
+    q = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    w, u = q[0], q[1:]
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
+
+
+def align(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The shortest rotation (quaternion) taking direction a to direction b."""
+    a = np.asarray(a, dtype=float) / np.linalg.norm(a)
+    b = np.asarray(b, dtype=float) / np.linalg.norm(b)
+    c = float(a @ b)
+    if c < -1 + 1e-12:  # opposite: half a turn about any axis normal to a
+        axis = np.cross(a, [1.0, 0.0, 0.0])
+        if np.linalg.norm(axis) < 1e-6:
+            axis = np.cross(a, [0.0, 1.0, 0.0])
+        axis /= np.linalg.norm(axis)
+        return np.array([0.0, *axis])
+    q = np.array([1.0 + c, *np.cross(a, b)])
+    return q / np.linalg.norm(q)
+
+
+# ---- the body --------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Shape:
+    """A uniform solid with the given principal moments: ``kind`` "disk", "rod" or "cylinder" (a
+    circular cylinder along e3 of ``radius`` and ``height``), or "box" (side lengths ``dims``); "mesh"
+    is a user's mesh, ``dims`` its bounding box."""
+
+    kind: str
+    radius: float = 0.0
+    height: float = 0.0
+    dims: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    @property
+    def extent(self) -> float:
+        """Largest size, m."""
+        if self.kind in ("box", "mesh"):
+            return float(max(self.dims))
+        return float(max(2 * self.radius, self.height))
+
+
+SYMMETRY_TOL = 1e-9  # relative |A - B| below which the body is axisymmetric
+THIN = 0.04  # a limiting flat plate or thin rod is drawn this fraction of its size thick
+
+
+def body_shape(A: float, B: float, C: float, M: float) -> Shape:
+    """Uniform solid of mass M (kg) with principal moments A, B, C (kg m^2).
+
+    Axisymmetric (A = B): a cylinder along e3 with C = M R^2/2, A = M(3R^2 + h^2)/12, so
+    R = sqrt(2C/M), h = sqrt(12A/M - 6C/M): a disk when C > A (oblate), a rod when C < A (prolate).
+    Otherwise a box with A = M(b^2 + c^2)/12 and so on: a = sqrt(6(B + C - A)/M), ...
+    """
+    if abs(A - B) <= SYMMETRY_TOL * A:
+        R = math.sqrt(2 * C / M)
+        h = math.sqrt(max(12 * A / M - 6 * C / M, 0.0))
+        h = max(h, THIN * 2 * R)
+        kind = "disk" if C > A * (1 + SYMMETRY_TOL) else "rod" if C < A * (1 - SYMMETRY_TOL) else "cylinder"
+        return Shape(kind, radius=R, height=h)
+    sides = np.sqrt(np.maximum(6.0 / M * np.array([B + C - A, A + C - B, A + B - C]), 0.0))
+    sides = np.maximum(sides, THIN * sides.max())
+    return Shape("box", dims=tuple(float(s) for s in sides))
+
+
+def shape_moments(shape: Shape, M: float) -> np.ndarray:
+    """Principal moments (3,) of a uniform ``shape`` of mass M: the inverse of body_shape."""
+    if shape.kind == "box":
+        a, b, c = shape.dims
+        return M / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+    R, h = shape.radius, shape.height
+    A = M * (3 * R * R + h * h) / 12
+    return np.array([A, A, M * R * R / 2])
+
+
+def ellipsoid_axes(A: float, B: float, C: float, size: float) -> np.ndarray:
+    """Semi-axes (3,) of the inertia ellipsoid, proportional to 1/sqrt(moment), largest = size."""
+    s = 1.0 / np.sqrt(np.array([A, B, C]))
+    return size * s / s.max()
+
+
+# ---- the internal parts ----------------------------------------------------------------------
+
+def mass_points(rho: float, u: np.ndarray, exaggeration: float) -> tuple[np.ndarray, np.ndarray]:
+    """(rest point O1 = rho e3, drawn mass position O1 + exaggeration * u), body frame, m."""
+    rest = rho * E3
+    return rest, rest + exaggeration * np.asarray(u, dtype=float)
+
+
+def spherical_bob(h: float, l: float, alpha: float, beta: float) -> tuple[np.ndarray, np.ndarray]:
+    """(pivot h e3, bob pivot + l e) with e = R_x(alpha) R_y(beta) e3 (physics/compiled/pendulum.py)."""
+    e = np.array([math.sin(beta), -math.sin(alpha) * math.cos(beta), math.cos(alpha) * math.cos(beta)])
+    pivot = h * E3
+    return pivot, pivot + l * e
+
+
+def plane_bob(hinge, axis, arm, l: float, a: float) -> tuple[np.ndarray, np.ndarray]:
+    """(hinge, bob hinge + l (cos a e0 + sin a f)), f = n x e0 (physics/compiled/pendulum.py)."""
+    n = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    e0 = np.asarray(arm, dtype=float) / np.linalg.norm(arm)
+    f = np.cross(n, e0)
+    hinge = np.asarray(hinge, dtype=float)
+    return hinge, hinge + l * (math.cos(a) * e0 + math.sin(a) * f)
+
+
+# ---- ring buffers ----------------------------------------------------------------------------
+
+class Ring:
+    """A fixed-capacity buffer of rows (capacity, width): memory stays bounded however long it runs."""
+
+    def __init__(self, capacity: int, width: int):
+        self.data = np.zeros((capacity, width))
+        self.start = 0
+        self.size = 0
+
+    @property
+    def capacity(self) -> int:
+        return self.data.shape[0]
+
+    def clear(self) -> None:
+        self.start = self.size = 0
+
+    def extend(self, rows: np.ndarray) -> None:
+        rows = np.atleast_2d(np.asarray(rows, dtype=float))[-self.capacity:]
+        for row in rows:  # a few rows per frame: a loop is simplest and cheap
+            i = (self.start + self.size) % self.capacity
+            self.data[i] = row
+            if self.size < self.capacity:
+                self.size += 1
+            else:
+                self.start = (self.start + 1) % self.capacity
+
+    def values(self) -> np.ndarray:
+        """Rows oldest first, a copy (size, width)."""
+        idx = (self.start + np.arange(self.size)) % self.capacity
+        return self.data[idx].copy()
+
+    def __len__(self) -> int:
+        return self.size
+
+
+def trail_segments(points: np.ndarray) -> np.ndarray:
+    """Consecutive points (n, 3) as line segments (max(n - 1, 1), 2, 3) for viser's line segments."""
+    if len(points) < 2:
+        p = points[0] if len(points) else np.zeros(3)
+        return np.array([[p, p]])
+    return np.stack([points[:-1], points[1:]], axis=1)

@@ -1,0 +1,471 @@
+"""One tab's simulation state: the scenario, the live run, pending GUI changes, ring buffers, and the
+Frame of numbers the scene and the panel show. No viser here: headless tests drive it directly.
+
+Threads: GUI callbacks call the ``request_*`` methods, which only record values under a lock; the
+session's loop thread calls ``tick``, which applies them and advances the run.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import threading
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import physics
+
+from . import controls, presets
+from .scene import E3, Ring, Shape, align, body_shape, ellipsoid_axes, mass_points, plane_bob, rotate, spherical_bob
+
+FRAME_HZ = 60.0
+SAMPLES_PER_FRAME = 4  # plot and trail rows per published frame
+PLOT_POINTS = 1500  # plot window (ring buffer rows)
+TRAIL_POINTS = 1200
+HISTORY_ROWS = 20000  # trajectory rows kept for the CSV export
+MAX_FRAME_DT = 0.1  # s of wall time: after a stall, do not try to catch up more than this
+OVERLAY_SAMPLES = 600
+OVERLAY_WINDOWS = 2.0  # a prediction covers this many plot windows ahead
+DEFAULT_WARP = 1.0  # the default scene is made to be watched in real time
+VIEWS = ("inertial", "body")
+
+
+@dataclass
+class Frame:
+    """Everything one published frame shows. Vectors are in scene coordinates (inertial frame turned so
+    the initial K points up, or the body frame), metres; quaternions scalar first."""
+
+    seq: int
+    t: float
+    theta: float
+    K: float
+    E: float
+    body_wxyz: np.ndarray
+    world_wxyz: np.ndarray
+    K_vec: np.ndarray
+    omega_vec: np.ndarray
+    axis_vec: np.ndarray
+    torque_vec: np.ndarray | None
+    mass_rest: np.ndarray | None = None
+    mass_pos: np.ndarray | None = None
+    bobs: list = field(default_factory=list)  # [(pivot, bob)] body frame, m
+    trail: np.ndarray | None = None  # (n, 3) scene coordinates, on a sphere of radius trail_radius
+    status: str = "running"
+    message: str = ""
+    applied: int = 0  # sequence number of the last GUI change reflected in this frame
+
+
+class Engine:
+    """The simulation of one tab."""
+
+    def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
+        self._lock = threading.Lock()
+        self._pending: dict = {}
+        self._actions: list[str] = []
+        self.change_seq = 0  # bumped by every GUI change
+        self.applied_seq = 0  # the last change applied by tick
+        self.change_times: dict[int, float] = {}
+        self.playing = True
+        self.restart_on_change = False
+        self.view = "inertial"
+        self.exaggeration = 10.0
+        self.overlay_fidelity = "none"
+        self.error = ""
+        self._overlay_thread: threading.Thread | None = None
+        self._overlay_gen = 0
+        self.frames = 0
+        self.seq = 0
+        self.wall_total = 0.0  # wall seconds spent in advance()
+        self.scene_changed = True  # the session redraws the static parts (shape, parts) when set
+        self.sliders_changed = True  # the session pushes slider values/ranges when set
+        self.plots_changed = True
+        self.mesh = mesh  # app.mesh.BodyMesh drawn instead of the uniform shape, until a preset is loaded
+        name = "from file" if scenario is not None else preset
+        if mesh is not None:
+            name = f"mesh {mesh.name}"
+        self._load(scenario or presets.load_preset(preset), name)
+
+    # ---- requests from GUI callbacks (any thread) -------------------------------------------
+    def request_value(self, key: str, value) -> int:
+        with self._lock:
+            self._pending[key] = value
+            return self._bump()
+
+    def request(self, action: str, value=None) -> int:
+        """Actions: play, pause, step, reset, warp, preset, system, fidelity, restart_on_change,
+        view, exaggeration, overlay, tune."""
+        with self._lock:
+            self._actions.append((action, value))
+            return self._bump()
+
+    def _bump(self) -> int:
+        self.change_seq += 1
+        self.change_times[self.change_seq] = time.perf_counter()
+        if len(self.change_times) > 1000:
+            for k in sorted(self.change_times)[:500]:
+                del self.change_times[k]
+        return self.change_seq
+
+    # ---- loading ---------------------------------------------------------------------------
+    def _load(self, sc: physics.Scenario, name: str) -> None:
+        run = physics.LiveRun(sc)  # raises ScenarioError before anything changes
+        self.base = sc
+        self.preset = name
+        self.changes: dict = {}
+        self.values = controls.values_of(sc)
+        self.run = run
+        self.warp = DEFAULT_WARP if name == presets.DEFAULT else presets.suggested_warp(sc)
+        self.fidelity_choice = sc.run.fidelity
+        self._restarted()
+
+    def _restarted(self) -> None:
+        """Buffers and reference directions for a run that starts now (or was retuned)."""
+        self.plot = Ring(PLOT_POINTS, 4)
+        self.trail = Ring(TRAIL_POINTS, 3)
+        self.history = Ring(HISTORY_ROWS, len(self.run.last.columns))
+        self.history_columns = self.run.last.columns
+        self.shape = self._shape(self.scenario)
+        K0 = self.momentum()
+        self.world_wxyz = align(K0, E3) if np.linalg.norm(K0) > 0 else np.array([1.0, 0, 0, 0])
+        self.K_ref = float(np.linalg.norm(K0)) or 1.0
+        self.w_ref = float(np.linalg.norm(self.run.last.omega[0])) or 1.0
+        self._record(self.run.last)
+        self.overlay = None
+        self.overlay_dirty = True
+        self.scene_changed = self.sliders_changed = self.plots_changed = True
+        self._drawn = None
+
+    def static_signature(self) -> tuple:
+        """What the static meshes depend on; the session redraws them when it changes."""
+        sc = self.scenario
+        return (self.shape, tuple(self.ellipsoid()), sc.mass.rho if sc.mass else None,
+                sc.cavity.a0 if sc.cavity else None, len(sc.plane_pendulums) + (sc.pendulum is not None))
+
+    def mark_drawn(self) -> None:
+        self._drawn = self.static_signature()
+
+    def _shape(self, sc: physics.Scenario) -> Shape:
+        if self.mesh is not None:
+            v = self.mesh.vertices
+            return Shape("mesh", dims=tuple(float(x) for x in v.max(axis=0) - v.min(axis=0)))
+        return body_shape(sc.body.A, sc.body.B, sc.body.C, sc.body.M)
+
+    @property
+    def scenario(self) -> physics.Scenario:
+        return self.run.scenario
+
+    # ---- applying changes (loop thread) -----------------------------------------------------
+    def _apply_pending(self) -> None:
+        with self._lock:
+            pending, self._pending = self._pending, {}
+            actions, self._actions = self._actions, []
+            seq = self.change_seq
+        try:
+            for action, value in actions:
+                self._act(action, value)
+            if pending:
+                self._apply_values(pending)
+        except physics.ScenarioError as exc:
+            self.error = str(exc)
+        except Exception as exc:  # never let a bad input kill the loop
+            self.error = f"{type(exc).__name__}: {exc}"
+        self.applied_seq = seq
+
+    def _apply_values(self, pending: dict) -> None:
+        changes = {**self.changes, **pending}
+        sc = controls.apply_changes(self.base, changes)  # ScenarioError leaves everything as it was
+        sc = sc.replace(run=_with_fidelity(sc.run, self.fidelity_choice))
+        restart = self.restart_on_change or controls.restarts(pending)
+        kept = self.run.retune(sc, keep_state=not restart)
+        self.changes = changes
+        self.values.update({k: v for k, v in pending.items() if not isinstance(v, str)})
+        self.error = ""
+        self.shape = self._shape(sc)
+        if self.static_signature() != self._drawn:
+            self.scene_changed = True  # redraw the meshes only when what they show has changed
+        self.overlay_dirty = True
+        if not kept:
+            self._restarted()
+
+    def _act(self, action: str, value) -> None:
+        if action == "play":
+            self.playing = True
+        elif action == "pause":
+            self.playing = False
+        elif action == "step":
+            self.playing = False
+            self._advance(self.warp / FRAME_HZ)
+        elif action == "reset":
+            self.run.reset()
+            self.error = ""
+            self._restarted()
+        elif action == "warp":
+            self.warp = float(min(presets.WARP_MAX, max(presets.WARP_MIN, value)))
+        elif action == "preset":
+            sc = presets.load_preset(value)
+            self.mesh = None  # a preset brings its own body
+            self._load(sc, value)
+            self.error = ""
+        elif action == "system":
+            if value != self.scenario.system:
+                name = next(n for n in presets.preset_names() if presets.load_preset(n).system == value)
+                self.mesh = None
+                self._load(presets.load_preset(name), name)
+                self.error = ""
+        elif action == "fidelity":
+            sc = self.scenario.replace(run=_with_fidelity(self.scenario.run, value))
+            self.run.retune(sc, keep_state=False)
+            self.fidelity_choice = value
+            self.error = ""
+            self._restarted()
+        elif action == "restart_on_change":
+            self.restart_on_change = bool(value)
+        elif action == "view":
+            self.view = value if value in VIEWS else "inertial"
+            self.trail.clear()  # the trail means something else in the other frame
+            self.scene_changed = True
+        elif action == "exaggeration":
+            self.exaggeration = float(value)
+        elif action == "overlay":
+            self.overlay_fidelity = value
+            self.overlay_dirty = True
+            self.plots_changed = True
+        elif action == "tune":
+            self._apply_values({"pendulum.k": "resonant"})
+        else:
+            raise ValueError(f"unknown action {action!r}")
+
+    # ---- stepping ----------------------------------------------------------------------------
+    def tick(self, wall_dt: float) -> Frame:
+        """Apply pending changes, advance by warp * wall_dt (if playing) and return the frame."""
+        self._apply_pending()
+        if self.playing:
+            self._advance(self.warp * min(max(wall_dt, 0.0), MAX_FRAME_DT))
+        if self.overlay is not None and self.run.t > self.overlay[0][-1]:
+            self.overlay_dirty = True  # the run has passed the prediction: predict again from now
+        if self.overlay_dirty:
+            self._compute_overlay()
+        self.frames += 1
+        return self.frame()
+
+    def _advance(self, dt: float) -> None:
+        if self.run.ended or dt <= 0:
+            return
+        start = time.perf_counter()
+        try:
+            tr = self.run.advance(dt, samples=SAMPLES_PER_FRAME)
+        except Exception as exc:  # a model error that is not an integrator status: report, stop
+            self.run.status, self.run.message = "fault", f"{type(exc).__name__}: {exc}"
+            return
+        self.wall_total += time.perf_counter() - start
+        if len(tr):
+            self._record(tr)
+
+    def _record(self, tr: physics.Trajectory) -> None:
+        self.plot.extend(np.column_stack([tr.t, tr.theta, tr.K, tr.E]))
+        if tr.columns == self.history_columns:
+            self.history.extend(tr.table())
+        for q in tr.quat:
+            self.trail.extend(self._trail_point(q))
+        self.plots_changed = True
+
+    def _trail_point(self, q: np.ndarray) -> np.ndarray:
+        """Inertial view: the tip of the symmetry axis; body view: the direction of K in the body."""
+        if self.view == "body":
+            return rotate(np.array([q[0], -q[1], -q[2], -q[3]]), self.momentum_dir())
+        return rotate(self.world_wxyz, rotate(q, E3))
+
+    def momentum(self) -> np.ndarray:
+        """Inertial total angular momentum now (kg m^2/s)."""
+        run = self.run
+        if run.model.invariants is not None and run.y.size:
+            K, _ = run.model.invariants(run.y[None, :], run.p)
+            return np.asarray(K[0], dtype=float)
+        # closed form: K stays along the initial direction of G (physics.closed_form_state)
+        _, G0, th0 = physics.initial_G(self.scenario)
+        return float(run.last.K[0]) * np.array([math.sin(th0), 0.0, math.cos(th0)])
+
+    def momentum_dir(self) -> np.ndarray:
+        K = self.momentum()
+        n = np.linalg.norm(K)
+        return K / n if n > 0 else E3
+
+    def _compute_overlay(self) -> None:
+        """Start computing the cheaper fidelity's prediction from the present state, in a background
+        thread: a long prediction must not stall the frames. A newer request cancels an older one."""
+        if self._overlay_thread is not None and self._overlay_thread.is_alive():
+            self._overlay_gen += 1  # cancel it; overlay_dirty stays set, so a later tick starts anew
+            return
+        self.overlay_dirty = False
+        self.overlay = None
+        self._overlay_gen += 1
+        self.plots_changed = True
+        fid = self.overlay_fidelity
+        if fid == "none" or self.scenario.system != "moving_mass":
+            return
+        sc = self.scenario
+        t0 = self.run.t
+        try:
+            if t0 > 0:  # predict from the present state: G0 and theta0 of now
+                sc = sc.with_values(**{"initial.G0": float(self.run.last.K[0]),
+                                       "initial.theta0": float(self.run.last.theta[0])})
+            horizon = max(OVERLAY_WINDOWS * self.plot_window(), 1.0)  # recomputed when the run passes its end
+            sc = sc.with_values(**{"run.t_end": horizon, "run.samples": OVERLAY_SAMPLES})
+        except physics.ScenarioError as exc:
+            self.error = f"overlay ({fid}): {exc}"
+            return
+        gen = self._overlay_gen
+
+        def progress(_fraction):
+            if gen != self._overlay_gen:  # chunks between compiled calls: the place to give up
+                raise _Cancelled
+
+        def work():
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", physics.ValidityWarning)
+                    tr = physics.simulate(sc, fidelity=fid, progress=progress)
+            except _Cancelled:
+                return
+            except (physics.ScenarioError, physics.IntegrationFault, ValueError) as exc:
+                if gen == self._overlay_gen:
+                    self.error = f"overlay ({fid}): {exc}"
+                return
+            if gen == self._overlay_gen:
+                self.overlay = (t0 + tr.t, tr.theta)
+                self.plots_changed = True
+
+        self._overlay_thread = threading.Thread(target=work, name="overlay", daemon=True)
+        self._overlay_thread.start()
+
+    def plot_window(self) -> float:
+        """Simulated seconds the plots show at the present warp."""
+        return PLOT_POINTS / (SAMPLES_PER_FRAME * FRAME_HZ) * self.warp
+
+    def wait_overlay(self, timeout: float = 30.0) -> bool:
+        """Block until the overlay being computed is done (for tests and scripts)."""
+        if self._overlay_thread is not None:
+            self._overlay_thread.join(timeout)
+        return self.overlay is not None
+
+    # ---- output -------------------------------------------------------------------------------
+    def frame(self) -> Frame:
+        run = self.run
+        last = run.last
+        q = last.quat[0]
+        K = self.momentum()
+        w_in = rotate(q, last.omega[0])
+        axis = rotate(q, E3)
+        torque = None
+        if run.b > 0 and not run.ended:
+            n = np.linalg.norm(K)
+            torque = -run.b * K / n if n > 0 else None
+        if self.view == "body":
+            turn = np.array([q[0], -q[1], -q[2], -q[3]])  # inertial -> body components
+            body_wxyz = np.array([1.0, 0, 0, 0])
+            world = np.array([1.0, 0, 0, 0])
+        else:
+            turn = self.world_wxyz  # inertial -> the view with the initial K up
+            body_wxyz = _qmul(self.world_wxyz, q)
+            world = self.world_wxyz
+
+        def to_scene(v):
+            return rotate(turn, v)
+        size = self.shape.extent
+        self.seq += 1
+        fr = Frame(seq=self.seq, t=run.t, theta=float(last.theta[0]), K=float(last.K[0]), E=float(last.E[0]),
+                   body_wxyz=body_wxyz, world_wxyz=world,
+                   K_vec=to_scene(K) / self.K_ref * 1.0 * size,
+                   omega_vec=to_scene(w_in) / self.w_ref * 0.9 * size,
+                   axis_vec=to_scene(axis) * 0.9 * size,
+                   torque_vec=None if torque is None else to_scene(torque) / (np.linalg.norm(torque)) * 0.6 * size,
+                   status=run.status, message=run.message, applied=self.applied_seq)
+        sc = self.scenario
+        if sc.mass is not None and "ux" in last.internal:
+            u = np.array([last.internal[k][0] for k in ("ux", "uy", "uz")])
+            fr.mass_rest, fr.mass_pos = mass_points(sc.mass.rho, u, self.exaggeration)
+        elif sc.mass is not None:
+            fr.mass_rest, fr.mass_pos = mass_points(sc.mass.rho, np.zeros(3), 1.0)
+        if sc.pendulum is not None:
+            a = last.internal.get("alpha", [0.0])[0]
+            b = last.internal.get("beta", [0.0])[0]
+            fr.bobs = [spherical_bob(sc.pendulum.h, sc.pendulum.l, a, b)]
+        for i, pp in enumerate(sc.plane_pendulums):
+            a = last.internal.get(f"a{i + 1}", [0.0])[0]
+            fr.bobs.append(plane_bob(*pp.geometry(), pp.l, a))
+        fr.trail = self.trail.values() * 0.9 * size  # the e3 arrow's tip draws it
+        return fr
+
+    def ellipsoid(self) -> np.ndarray:
+        b = self.scenario.body
+        return ellipsoid_axes(b.A, b.B, b.C, 0.6 * self.shape.extent)
+
+    def plot_data(self) -> tuple[np.ndarray, ...]:
+        """(t, theta, overlay's theta, |K|, E) over the plot window. The overlay starts from the state at
+        the time it was computed, so before that time it equals theta; without an overlay it is theta
+        (the plot hides it). No NaN: uPlot's auto-range would break on them."""
+        rows = self.plot.values()
+        t = rows[:, 0]
+        over = rows[:, 1].copy()
+        if self.overlay is not None and len(t):
+            ot, oth = self.overlay
+            after = t >= ot[0]
+            over[after] = np.interp(t[after], ot, oth)
+        return t, rows[:, 1], over, rows[:, 2], rows[:, 3]
+
+    @property
+    def has_overlay(self) -> bool:
+        return self.overlay is not None
+
+    def readouts(self) -> dict[str, str]:
+        run = self.run
+        d = {"t": f"{run.t:.4g} s", "theta": f"{run.last.theta[0]:.6f} rad", "|K|": f"{run.last.K[0]:.6g} kg m^2/s",
+             "E": f"{run.last.E[0]:.6g} J"}
+        T = physics.derived(self.scenario)["T"] if run.b > 0 else math.inf
+        d["T"] = "no braking" if math.isinf(T) else f"{T:.6g} s"
+        rem = run.remaining_braking_time()
+        d["remaining"] = "n/a" if math.isinf(rem) else f"{rem:.6g} s"
+        d["fidelity"] = f"{run.fidelity} ({run.model.name})" + (" by auto" if run.requested == "auto" else "")
+        q = run.last.quat[0]
+        d["q"] = "[" + ", ".join(f"{x:.4f}" for x in q) + "]"
+        return d
+
+    def badge(self) -> str:
+        """The averaged model's validity conditions and auto's choice, as markdown."""
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                fid, why = physics.choose_fidelity(self.scenario)
+                conds = physics.averaged_conditions(self.scenario) if self.scenario.system == "moving_mass" else []
+        except Exception as exc:  # a system whose conditions are not available yet
+            return f"auto: unavailable ({exc})"
+        lines = [f"{'OK' if c.holds else 'FAILS'}: {c}" for c in conds]
+        return f"**auto → {fid}**  \n" + "  \n".join(lines) + (f"  \n_{why}_" if not conds else "")
+
+    def csv(self) -> bytes:
+        buf = io.StringIO()
+        np.savetxt(buf, self.history.values(), delimiter=",", header=",".join(self.history_columns), comments="",
+                   fmt="%.17g")
+        return buf.getvalue().encode()
+
+    def toml(self) -> bytes:
+        return self.scenario.to_toml().encode()
+
+
+class _Cancelled(Exception):
+    """A newer overlay request replaced this one."""
+
+
+def _with_fidelity(run: physics.Run, fidelity: str) -> physics.Run:
+    import dataclasses
+
+    return dataclasses.replace(run, fidelity=fidelity)
+
+
+def _qmul(a, b):
+    from .scene import qmul
+
+    return qmul(a, b)

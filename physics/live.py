@@ -1,0 +1,235 @@
+"""Stepping a scenario piece by piece, for an interactive viewer.
+
+``LiveRun(scenario)`` holds the model, its parameter vector, the state y, the time t and the
+compiled DOP853's step size. ``advance(dt)`` integrates [t, t + dt] and returns the rows reached as a
+Trajectory; the step size carries over, so pieces cost what one long run costs and agree with
+``simulate`` to the integrator's tolerance. ``retune(scenario)`` swaps the parameters and keeps the
+state when the state layout allows it. The end of braking and integration faults are recorded in
+``status`` and ``message``, never raised: a viewer shows them and keeps the last good state.
+
+The closed fidelity has no state to step: its rows are evaluated from t = 0 at the times asked for.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .compiled import dispatch as kernels
+from .compiled import dop853
+from .errors import IntegrationFault, ScenarioError
+from .models.base import Model, get_model
+from .scenario import Scenario
+from .simulate import ATOL_FACTOR
+from .trajectory import Trajectory
+from .validity import choose_fidelity
+
+RUNNING, BRAKED, FAULT = "running", "braked", "fault"
+MAX_STEPS_PER_CALL = 200_000  # bounds the wall time of one advance(); the rest waits for the next call
+
+
+@dataclass(frozen=True)
+class Resolved:
+    """Which model runs a scenario live, and why."""
+
+    model: Model
+    fidelity: str
+    reason: str
+
+
+def resolve(scenario: Scenario, fidelity: str | None = None) -> Resolved:
+    """The model that ``simulate`` would run (``auto`` resolved), raising ScenarioError if absent."""
+    fid = fidelity or scenario.run.fidelity
+    reason = "requested"
+    if fid == "auto":
+        fid, reason = choose_fidelity(scenario)
+    try:
+        model = get_model(scenario.system, fid)
+    except KeyError:
+        raise ScenarioError("run.fidelity", fid, f"is not available for {scenario.system}") from None
+    if fid == "closed":
+        from .validity import closed_form_available
+
+        ok, why = closed_form_available(scenario)
+        if not ok:
+            raise ScenarioError("run.fidelity", "closed", f"is not available for this scenario: {why}")
+    return Resolved(model, fid, reason)
+
+
+class LiveRun:
+    """One scenario integrated in pieces. Not thread-safe: one owner thread calls its methods.
+
+    Attributes: ``scenario``, ``model``, ``fidelity`` (resolved), ``reason`` (why auto chose it),
+    ``p``, ``y`` (state at ``t``), ``h`` (next step size, 0 before the first step), ``status``
+    (RUNNING, BRAKED or FAULT), ``message`` (why it stopped), ``last`` (one-row Trajectory at t),
+    ``nsteps`` and ``nfev`` (totals).
+    """
+
+    def __init__(self, scenario: Scenario, fidelity: str | None = None):
+        self._start(scenario, fidelity)
+
+    # ---- set-up -------------------------------------------------------------------------
+    def _start(self, scenario: Scenario, fidelity: str | None) -> None:
+        res = resolve(scenario, fidelity)
+        self.scenario = scenario
+        self.requested = fidelity or scenario.run.fidelity
+        self.model, self.fidelity, self.reason = res.model, res.fidelity, res.reason
+        self.t = 0.0
+        self.h = 0.0
+        self.nsteps = 0
+        self.nfev = 0
+        self.status = RUNNING
+        self.message = ""
+        self.rtol = scenario.run.rtol
+        self.b = float(scenario.control.b) if scenario.control else 0.0
+        self.lam = float(scenario.medium.lambda_) if scenario.medium else 0.0
+        if self.model.solve is not None:
+            self.p = np.zeros(0)
+            self.y = np.zeros(0)
+            self.G0 = 1.0
+            self._G0_known = False
+            self.atol = 0.0
+            self.last = self._closed(np.array([0.0]))
+            return
+        self._set_params(scenario)
+        self.y = np.asarray(self.model.initial_state(scenario, self.p), dtype=float).copy()
+        self.atol = self.rtol * ATOL_FACTOR * max(1.0, float(np.max(np.abs(self.y))))
+        self._G0_known = self.b > 0
+        self.G0 = float(kernels.braking_norm(self.model.kernel, self.y, self.p)) if self.b > 0 else 1.0
+        self.last = self._observe(np.array([0.0]), self.y[None, :])
+
+    def _set_params(self, scenario: Scenario) -> None:
+        self.p = np.asarray(self.model.pack(scenario), dtype=float)
+        self.rtol = scenario.run.rtol
+        self.b = float(scenario.control.b) if scenario.control else 0.0
+        self.lam = float(scenario.medium.lambda_) if scenario.medium else 0.0
+
+    def reset(self) -> None:
+        """Back to t = 0 with the current scenario."""
+        self._start(self.scenario, self.requested)
+
+    def retune(self, scenario: Scenario, fidelity: str | None = None, *, keep_state: bool = True) -> bool:
+        """Run ``scenario`` from now on. Returns True when the current state was kept (same model,
+        same state layout, ``keep_state``), False when it restarted from t = 0. Raises
+        ScenarioError (before changing anything) when the scenario cannot run."""
+        res = resolve(scenario, fidelity)
+        same = (keep_state and res.model is self.model and self.model.solve is None
+                and self.status != FAULT)
+        if same:
+            p = np.asarray(self.model.pack(scenario), dtype=float)
+            y0 = self.model.initial_state(scenario, p)
+            same = p.shape == self.p.shape and np.shape(y0) == self.y.shape
+        if not same:
+            self._start(scenario, fidelity)
+            return False
+        self.scenario = scenario
+        self.requested = fidelity or scenario.run.fidelity
+        self.reason = res.reason
+        self._set_params(scenario)
+        if self.b > 0 and not self._G0_known:  # braking switched on now: measure its end from here
+            self._G0_known = True
+            self.G0 = float(kernels.braking_norm(self.model.kernel, self.y, self.p))
+        if self.status == BRAKED and self.b == 0.0:
+            self.status, self.message = RUNNING, ""
+        self.h = 0.0  # the old step size may not suit the new parameters; let the integrator guess
+        self.last = self._observe(np.array([self.t]), self.y[None, :])
+        return True
+
+    # ---- stepping -----------------------------------------------------------------------
+    def advance(self, dt: float, samples: int = 1) -> Trajectory:
+        """Integrate over [t, t + dt] and return the rows reached at ``samples`` evenly spaced times
+        in (t, t + dt] (fewer if the run stops or the per-call step budget runs out first).
+        Returns an empty Trajectory once the run has ended."""
+        if self.status != RUNNING or not dt > 0:
+            return self._empty()
+        samples = max(1, int(samples))
+        times = self.t + dt * np.arange(1, samples + 1) / samples
+        if self.model.solve is not None:
+            return self._advance_closed(times)
+        t_out = np.concatenate([[self.t], times])
+        Y, n, status, t_last, y_last, nfev, nsteps, h = dop853.integrate(
+            self.model.kernel, self.y, self.p, t_out, self.rtol, self.atol, self.b, self.lam,
+            MAX_STEPS_PER_CALL, self.h, self.G0)
+        self.nfev += int(nfev)
+        self.nsteps += int(nsteps)
+        rows_t, rows_y = t_out[1:n], Y[1:n]
+        if status == dop853.OK:
+            self.h = float(h)
+        elif status == dop853.MAX_STEPS:
+            # out of budget for this call, not a fault: keep the progress and the step size
+            self.h = float(h)
+            if t_last > (rows_t[-1] if len(rows_t) else self.t):
+                rows_t, rows_y = np.append(rows_t, t_last), np.vstack([rows_y, y_last[None, :]])
+        else:
+            if t_last > (rows_t[-1] if len(rows_t) else self.t):
+                rows_t, rows_y = np.append(rows_t, t_last), np.vstack([rows_y, y_last[None, :]])
+            if status == dop853.BRAKED:
+                self.status = BRAKED
+                self.message = f"{dop853.STATUS_TEXT[status]} at t = {t_last:.6g} s"
+            else:
+                self.status = FAULT
+                self.message = str(IntegrationFault(dop853.STATUS_TEXT[status], float(t_last)))
+        if not len(rows_t):
+            return self._empty()
+        good = np.all(np.isfinite(rows_y), axis=1)
+        if not np.all(good):  # never hand a viewer a non-finite state
+            rows_t, rows_y = rows_t[good], rows_y[good]
+            self.status = FAULT
+            self.message = self.message or "state became non-finite"
+            if not len(rows_t):
+                return self._empty()
+        self.t = float(rows_t[-1])
+        self.y = rows_y[-1].copy()
+        tr = self._observe(rows_t, rows_y)
+        self.last = tr.slice(len(tr) - 1)
+        return tr
+
+    def _advance_closed(self, times: np.ndarray) -> Trajectory:
+        try:
+            tr = self._closed(times)
+        except (ValueError, FloatingPointError) as exc:
+            self.status, self.message = FAULT, f"closed form failed: {exc}"
+            return self._empty()
+        stop = tr.info.get("t_stop")
+        if "braking" in str(tr.info.get("stop_reason", "")) and stop is not None:
+            self.status = BRAKED
+            self.message = f"braking brought |G| to zero at t = {stop:.6g} s"
+        if len(tr):
+            self.t = float(tr.t[-1])
+            self.last = tr.slice(len(tr) - 1)
+        return tr
+
+    def _closed(self, times: np.ndarray) -> Trajectory:
+        t_all = np.concatenate([[0.0], times]) if times[0] > 0 else times
+        tr = self.model.solve(self.scenario, t_all)
+        if times[0] > 0:
+            tr = tr.slice(1)
+        return tr
+
+    def _observe(self, t: np.ndarray, Y: np.ndarray) -> Trajectory:
+        return self.model.observe(np.asarray(t, dtype=float), np.ascontiguousarray(Y), self.p, self.scenario)
+
+    def _empty(self) -> Trajectory:
+        return self.last.slice(0, 0)
+
+    # ---- readouts -----------------------------------------------------------------------
+    @property
+    def ended(self) -> bool:
+        return self.status != RUNNING
+
+    def remaining_braking_time(self) -> float:
+        """Time left until |G| reaches zero under braking (seed 004 eq. (11) from the current |G|),
+        inf without braking. The averaged theory's G' = -b - lambda G gives it from |G| alone."""
+        if self.b <= 0:
+            return math.inf
+        if self.status == BRAKED:
+            return 0.0
+        from .closed import braking_time
+
+        G = float(self.last.K[-1]) if len(self.last) else 0.0
+        return float(braking_time(G, self.b, self.lam)) if G > 0 else 0.0
+
+
+__all__ = ["BRAKED", "FAULT", "RUNNING", "LiveRun", "Resolved", "resolve"]

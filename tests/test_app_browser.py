@@ -1,0 +1,233 @@
+"""The explorer in a real browser: Debian's chromium driven by Playwright (../shared/VISER_NOTES.md).
+
+One server in a subprocess for the module; the tests run in order on one page, then open a second tab.
+The readouts panel prints ``name = value`` lines, which the tests read back.
+"""
+
+from __future__ import annotations
+
+import os
+import queue
+import re
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.browser
+ROOT = Path(__file__).resolve().parents[1]
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+START_TIMEOUT = 120.0  # s: a cold numba cache compiles the kernels first
+UI_TIMEOUT = 30_000  # ms
+SIX = {"m": "m (kg)", "rho": "rho (m)", "Omega": "Omega (rad/s)", "chi": "chi (1/s)", "lambda": "lambda (1/s)",
+       "b": "b (N m)"}
+
+sync_api = pytest.importorskip("playwright.sync_api")
+if not os.path.exists(CHROMIUM):
+    pytest.skip("Debian's chromium is not installed (apt-get install -y chromium)", allow_module_level=True)
+
+
+@pytest.fixture(scope="module")
+def url():
+    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    lines: queue.Queue = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
+    deadline = time.monotonic() + START_TIMEOUT
+    found = None
+    log = []
+    while found is None and time.monotonic() < deadline and proc.poll() is None:
+        try:
+            line = lines.get(timeout=1.0)
+        except queue.Empty:
+            continue
+        log.append(line)
+        m = re.search(r"ready in .*: (http://\S+)", line)
+        found = m.group(1) if m else None
+    if found is None:
+        proc.kill()
+        pytest.fail("the explorer did not start:\n" + "".join(log))
+    yield found
+    proc.terminate()
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module")
+def page(browser, url):
+    pg = browser.new_page(viewport={"width": 1100, "height": 750})  # software WebGL: fewer pixels, quicker
+    pg.set_default_timeout(UI_TIMEOUT)
+    pg.goto(url)
+    yield pg
+    pg.close()
+
+
+READOUTS_JS = """() => {
+    for (const p of document.querySelectorAll('p')) if (p.innerText.includes('fidelity = ')) return p.innerText;
+    return '';
+}"""
+LABELS_JS = """() => Array.from(document.querySelectorAll('label')).map(l => [l.textContent.trim(), l.htmlFor,
+    !!(l.htmlFor && document.getElementById(l.htmlFor) &&
+       document.getElementById(l.htmlFor).querySelector('[role=slider]'))])"""
+
+
+def readouts(page) -> str:
+    """The readout panel's text, read in one script call (locators are slow while WebGL renders in software)."""
+    return page.evaluate(READOUTS_JS)
+
+
+def read(page, key: str) -> str:
+    m = re.search(rf"(?m)^{re.escape(key)} = (.*)$", readouts(page))
+    assert m, readouts(page)
+    return m.group(1).strip()
+
+
+def wait_until(page, predicate, what: str, timeout_ms: int = UI_TIMEOUT):
+    waited = 0
+    while waited < timeout_ms:
+        try:
+            value = predicate()
+        except AssertionError:
+            value = None
+        if value:
+            return value
+        page.wait_for_timeout(250)
+        waited += 250
+    pytest.fail(f"timed out waiting for {what}")
+
+
+def control_id(page, label: str) -> str:
+    lab = page.locator("label").filter(has_text=re.compile(rf"^{re.escape(label)}$")).first
+    return lab.get_attribute("for")
+
+
+def set_slider(page, label: str, value: float) -> None:
+    box = page.locator(f'[id="{control_id(page, label)}"]').locator("xpath=..").locator(
+        "input.mantine-NumberInput-input")
+    box.fill(f"{value:g}")
+    box.press("Enter")
+
+
+def click(page, name: str) -> None:
+    page.get_by_role("button", name=name, exact=True).click()
+    page.wait_for_timeout(150)  # the browser sends one GUI message per 50 ms
+
+
+def choose(page, label: str, option: str) -> None:
+    page.locator(f'[id="{control_id(page, label)}"]').click()
+    page.get_by_role("option", name=option, exact=True).click()
+
+
+def test_page_loads_connects_and_shows_the_canvas(page):
+    page.wait_for_selector("canvas")
+    wait_until(page, lambda: read(page, "fidelity").startswith("full"), "the session's first readouts")
+
+
+def test_default_scene_moves(page):
+    q1 = read(page, "q")
+    t1 = read(page, "t")
+    page.wait_for_timeout(1500)
+    q2 = read(page, "q")
+    assert read(page, "t") != t1
+    assert q1 != q2  # the body's orientation changed
+
+
+def test_the_six_sliders_exist(page):
+    sliders = {text: has_thumb for text, _id, has_thumb in page.evaluate(LABELS_JS)}
+    for label in SIX.values():
+        assert sliders.get(label), f"no slider labelled {label!r}"
+
+
+def test_b_changes_the_braking_time(page):
+    assert read(page, "T") == "no braking"
+    set_slider(page, SIX["b"], 0.01)
+    T1 = wait_until(page, lambda: read(page, "T") if read(page, "T").endswith(" s") else None, "T with braking")
+    set_slider(page, SIX["b"], 0.02)
+    T2 = wait_until(page, lambda: read(page, "T") if read(page, "T") not in ("no braking", T1) else None,
+                    "T with more braking")
+    assert float(T2.split()[0]) < float(T1.split()[0])
+    set_slider(page, SIX["b"], 0.0)
+    wait_until(page, lambda: read(page, "T") == "no braking", "braking off")
+
+
+def _theta_after_steps(page, steps: int) -> tuple[str, str]:
+    click(page, "Pause")
+    click(page, "Reset")
+    wait_until(page, lambda: read(page, "t") == "0 s", "reset to t = 0")
+    for _ in range(steps):
+        click(page, "Step")
+    def settled():
+        t = read(page, "t")
+        page.wait_for_timeout(600)
+        return t if t != "0 s" and read(page, "t") == t else None
+
+    wait_until(page, settled, "the steps to be applied")
+    return read(page, "t"), read(page, "theta")
+
+
+def test_chi_changes_the_trajectory(page):
+    t1, theta1 = _theta_after_steps(page, 3)
+    set_slider(page, SIX["chi"], 30.0)
+    page.wait_for_timeout(500)
+    t2, theta2 = _theta_after_steps(page, 3)
+    assert t1 == t2
+    assert theta1 != theta2
+
+
+def test_choosing_a_preset_loads_it(page):
+    choose(page, "Preset", "Explorer 1's flat spin")
+    wait_until(page, lambda: "Explorer 1's flat spin" in readouts(page), "the preset in the readouts")
+    assert read(page, "theta").startswith("0.2")  # theta0 = 0.2 in prolate_flat_spin.toml
+
+
+def test_export_downloads_the_scenario_and_the_trajectory(page):
+    page.get_by_text("Export", exact=True).click()  # the folder starts collapsed
+    with page.expect_download() as info:
+        click(page, "Download scenario (TOML)")
+    text = Path(info.value.path()).read_text()
+    assert "[body]" in text and "C = 0.5" in text  # Explorer 1's flat spin, loaded above
+    with page.expect_download() as info:
+        click(page, "Download trajectory (CSV)")
+    lines = Path(info.value.path()).read_text().splitlines()
+    assert lines[0].startswith("t,theta,K,E") and len(lines) >= 2  # paused at t = 0 by the tests above
+
+
+def test_two_tabs_run_independent_simulations(page, browser, url):
+    click(page, "Pause")
+    frozen = read(page, "t")
+    other = browser.new_page(viewport={"width": 1400, "height": 900})
+    other.set_default_timeout(UI_TIMEOUT)
+    try:
+        other.goto(url)
+        other.wait_for_selector("canvas")
+        wait_until(other, lambda: "Default" in readouts(other), "the second tab's default scene")
+        t_a = read(other, "t")
+        other.wait_for_timeout(1000)
+        assert read(other, "t") != t_a  # the new tab runs
+        assert read(page, "t") == frozen  # the first stays paused on its own preset
+        assert "Explorer 1" in readouts(page)
+        page.close()  # leave the CPU to the tab being photographed
+        other.wait_for_timeout(2500)
+        close = other.locator(".mantine-Notification-closeButton")
+        if close.count():
+            close.first.click()
+        (ROOT / "docs" / "img").mkdir(parents=True, exist_ok=True)
+        other.screenshot(path=str(ROOT / "docs" / "img" / "explorer.png"))
+    finally:
+        other.close()

@@ -1,0 +1,222 @@
+"""Headless checks of one tab's simulation state (app/state.py, app/controls.py, app/presets.py):
+changes go through physics, bad input is rejected with the state kept, buffers stay bounded."""
+
+from __future__ import annotations
+
+import io
+import math
+
+import numpy as np
+import pytest
+
+import physics
+from app import controls, presets
+from app.__main__ import parse
+from app.state import FRAME_HZ, PLOT_POINTS, SAMPLES_PER_FRAME, TRAIL_POINTS, Engine
+
+pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
+DT = 1.0 / FRAME_HZ
+ANGLE_TOL = 1e-9  # rad
+
+
+def ticks(engine: Engine, n: int):
+    fr = None
+    for _ in range(n):
+        fr = engine.tick(DT)
+    return fr
+
+
+def test_default_engine_plays_with_K_up():
+    e = Engine()
+    assert e.preset == presets.DEFAULT and e.run.fidelity == "full"
+    fr = ticks(e, 10)
+    assert fr.t == pytest.approx(10 * DT * e.warp)
+    for v in (fr.K_vec, fr.omega_vec, fr.axis_vec, fr.body_wxyz, fr.mass_pos):
+        assert np.all(np.isfinite(v))
+    K = fr.K_vec / np.linalg.norm(fr.K_vec)
+    np.testing.assert_allclose(K, [0, 0, 1], atol=1e-9)  # the inertial view puts the fixed K up
+    assert fr.torque_vec is None
+    assert len(fr.trail) == 1 + 10 * SAMPLES_PER_FRAME
+    np.testing.assert_allclose(fr.trail[-1], fr.axis_vec, atol=1e-12)  # the e3 arrow's tip draws the trail
+
+
+def test_a_slider_change_keeps_the_state_and_acts():
+    e = Engine()
+    ticks(e, 5)
+    t, y = e.run.t, e.run.y.copy()
+    seq = e.request_value("mass.chi", 2.0)
+    fr = e.tick(0.0)
+    assert fr.applied >= seq and e.error == ""
+    assert e.run.t == t and np.array_equal(e.run.y, y)
+    assert e.scenario.mass.chi == 2.0
+
+
+def test_bad_input_is_rejected_and_the_last_good_state_stays():
+    e = Engine()
+    ticks(e, 3)
+    good = e.scenario
+    e.request_value("mass.m", 5.0)  # m >= M
+    fr = e.tick(DT)
+    assert "mass.m" in e.error and "less than body.M" in e.error
+    assert e.scenario is good and fr.status == "running" and fr.t > 0
+    e.request_value("mass.m", 0.2)
+    e.tick(DT)
+    assert e.error == "" and e.scenario.mass.m == 0.2
+
+
+def test_initial_changes_and_restart_on_change_restart():
+    e = Engine()
+    ticks(e, 3)
+    e.request_value("initial.theta0", 0.3)
+    e.tick(0.0)
+    # theta is K's angle; at the default's eps the mass's momentum tilts K from J* w by a few 0.01 rad
+    fresh = physics.simulate(e.scenario.replace(run=physics.Run(t_end=1.0, samples=2, fidelity="full")))
+    assert e.scenario.initial.theta0 == 0.3
+    assert e.run.t == 0.0 and e.run.last.theta[0] == pytest.approx(fresh.theta[0], abs=1e-12)
+    ticks(e, 3)
+    e.request("restart_on_change", True)
+    e.request_value("mass.chi", 3.0)
+    e.tick(0.0)
+    assert e.run.t == 0.0
+
+
+def test_b_sets_the_braking_time_and_the_torque():
+    e = Engine()
+    assert e.readouts()["T"] == "no braking"
+    e.request_value("control.b", 0.01)
+    fr = e.tick(DT)
+    T = physics.derived(e.scenario)["T"]
+    assert e.readouts()["T"] == f"{T:.6g} s" and math.isfinite(T)
+    assert fr.torque_vec is not None and fr.torque_vec[2] < 0  # against K, which points up
+    e.request_value("control.b", 0.0)
+    e.tick(DT)
+    assert e.scenario.control is None
+
+
+def test_playback_actions():
+    e = Engine()
+    e.request("pause")
+    ticks(e, 3)
+    assert e.run.t == 0.0
+    e.request("step")
+    e.tick(DT)
+    assert e.run.t == pytest.approx(e.warp / FRAME_HZ)
+    e.request("warp", 1e9)
+    e.tick(DT)
+    assert e.warp == presets.WARP_MAX
+    e.request("reset")
+    e.request("play")
+    e.tick(0.0)
+    assert e.playing and e.run.t == 0.0
+
+
+@pytest.mark.parametrize("name", presets.preset_names())
+def test_every_preset_loads_and_runs(name):
+    e = Engine()
+    e.request("preset", name)
+    fr = ticks(e, 3)
+    assert e.error == "" and e.preset == name
+    assert fr.t > 0 and np.isfinite(fr.theta)
+    sc = e.scenario
+    if sc.pendulum is not None or sc.plane_pendulums:
+        assert len(fr.bobs) == max(1, len(sc.plane_pendulums))
+    assert e.readouts()["fidelity"].startswith(e.run.fidelity)
+    assert e.badge().startswith("**auto")
+
+
+def test_the_presets_the_issue_asks_for():
+    names = " ".join(presets.preset_names()).lower()
+    for word in ("default", "oblate", "flat spin", "cavity and a medium", "seed 000", "resonant", "detuned",
+                 "plane pendulums", "intermediate-axis"):
+        assert word in names, word
+
+
+def test_system_fidelity_and_tune():
+    e = Engine()
+    e.request("system", "spherical_pendulum")
+    e.tick(DT)
+    assert e.scenario.system == "spherical_pendulum" and e.error == ""
+    e.request("tune")
+    e.tick(DT)
+    assert e.scenario.pendulum.k == "resonant" and e.error == ""
+    e.request("system", "moving_mass")
+    e.request("fidelity", "averaged")
+    e.tick(DT)
+    assert e.run.fidelity == "averaged" and e.run.t == pytest.approx(e.warp * DT)
+
+
+def test_body_view_holds_the_body_still():
+    e = Engine()
+    e.request("view", "body")
+    fr = ticks(e, 5)
+    np.testing.assert_array_equal(fr.body_wxyz, [1, 0, 0, 0])
+    np.testing.assert_allclose(fr.axis_vec / np.linalg.norm(fr.axis_vec), [0, 0, 1], atol=ANGLE_TOL)
+
+
+def test_buffers_stay_bounded():
+    e = Engine()
+    e.request("warp", 1000.0)
+    ticks(e, (PLOT_POINTS + TRAIL_POINTS) // 4 + 50)
+    assert len(e.plot) == PLOT_POINTS and len(e.trail) == TRAIL_POINTS
+    t, theta, over, K, E = e.plot_data()
+    assert len(t) == PLOT_POINTS and np.all(np.diff(t) > 0)
+
+
+def test_overlay_prediction_tracks_the_full_model():
+    e = Engine()
+    e.request("overlay", "averaged")
+    ticks(e, 2)
+    assert e.wait_overlay()
+    ticks(e, 20)
+    t, theta, over, K, E = e.plot_data()
+    assert e.has_overlay and np.all(np.isfinite(over)) and np.any(over != theta)
+    assert np.max(np.abs(over - theta)) < 0.05  # rad: eps = 0.2 is outside its conditions, still close
+
+
+def test_exports_round_trip():
+    e = Engine()
+    ticks(e, 5)
+    sc = physics.Scenario.from_toml(e.toml().decode())
+    assert sc == e.scenario
+    table = np.loadtxt(io.StringIO(e.csv().decode()), delimiter=",", skiprows=1)
+    header = e.csv().decode().splitlines()[0].split(",")
+    assert header[:4] == ["t", "theta", "K", "E"] and table.shape == (21, len(header))
+
+
+def test_apply_changes_switches_parts_on_and_off():
+    base = physics.default_scenario()
+    sc = controls.apply_changes(base, {"medium.lambda": 0.001, "control.b": 0.01, "cavity.beta": 500.0})
+    assert sc.medium.lambda_ == 0.001 and sc.control.b == 0.01 and sc.cavity.beta == 500.0
+    sc = controls.apply_changes(sc, {"medium.lambda": 0.0, "control.b": 0.0, "cavity.beta": 0.0})
+    assert sc.medium is None and sc.control is None and sc.cavity is None
+    assert controls.apply_changes(base, {"mass.m": 0.0}).mass is None
+    with pytest.raises(physics.ScenarioError):
+        controls.apply_changes(base, {"no.such": 1.0})
+    assert controls.values_of(base)["mass.chi"] == base.mass.chi
+    assert set(controls.SIX) <= set(controls.BY_KEY)
+
+
+def test_cli_defaults():
+    a = parse([])
+    assert (a.host, a.port, a.scenario) == ("127.0.0.1", 8080, None)
+    assert parse(["--port", "0", "--scenario", "x.toml"]).port == 0
+
+
+def test_server_starts_on_a_free_port_and_stops():
+    from app.server import App
+
+    app = App(port=0)
+    try:
+        assert app.port > 0
+    finally:
+        app.close()
+
+
+def test_cli_rejects_a_bad_scenario_file(tmp_path, capsys):
+    from app.__main__ import main
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[body]\nA = -1.0\nC = 1.0\nM = 1.0\n[initial]\nG0 = 1.0\ntheta0 = 0.1\n[run]\nt_end = 1.0\n")
+    assert main(["--scenario", str(bad), "--port", "0"]) == 2
+    assert "body.A" in capsys.readouterr().err
+    assert main(["--scenario", str(tmp_path / "missing.toml"), "--port", "0"]) == 2

@@ -1,0 +1,143 @@
+"""physics.LiveRun: stepping in pieces agrees with one simulate run; retune keeps the state; the end of
+braking and faults are reported, not raised."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import physics
+from physics.live import BRAKED, FAULT, RUNNING, LiveRun
+
+pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
+
+ANGLE_TOL = 1e-7  # rad: two step sequences at rtol 1e-10 over a few seconds
+REL_TOL = 1e-8  # relative, |K| and E
+TIME_TOL = 1e-6  # s, braking end against the closed-form T
+
+
+def _default(t_end: float = 4.0, samples: int = 9, fidelity: str = "full") -> physics.Scenario:
+    return physics.default_scenario().with_values(**{"run.t_end": t_end, "run.samples": samples,
+                                                     "run.fidelity": fidelity})
+
+
+@pytest.mark.parametrize("fidelity", ["full", "averaged", "closed"])
+def test_advance_in_pieces_matches_one_simulate_run(fidelity):
+    sc = _default(fidelity=fidelity)
+    ref = physics.simulate(sc)
+    run = LiveRun(sc)
+    assert run.fidelity == fidelity
+    rows = [run.advance(0.5) for _ in range(8)]
+    t = np.concatenate([r.t for r in rows])
+    theta = np.concatenate([r.theta for r in rows])
+    K = np.concatenate([r.K for r in rows])
+    np.testing.assert_allclose(t, ref.t[1:], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(theta, ref.theta[1:], rtol=0, atol=ANGLE_TOL)
+    np.testing.assert_allclose(K, ref.K[1:], rtol=REL_TOL)
+    np.testing.assert_allclose(run.last.quat[0], ref.quat[-1], atol=ANGLE_TOL)
+    assert run.t == pytest.approx(4.0, abs=1e-12) and run.status == RUNNING
+
+
+def test_advance_returns_the_samples_asked_for():
+    run = LiveRun(_default())
+    tr = run.advance(1.0, samples=4)
+    np.testing.assert_allclose(tr.t, [0.25, 0.5, 0.75, 1.0], atol=1e-12)
+    assert len(run.last) == 1 and run.last.t[0] == tr.t[-1]
+    assert set(tr.internal) >= {"ux", "uy", "uz"}
+
+
+def test_retune_keeps_state_and_changes_the_motion():
+    sc = _default()
+    run = LiveRun(sc)
+    run.advance(1.0)
+    y, t = run.y.copy(), run.t
+    kept = run.retune(sc.with_values(**{"mass.chi": 2.0}))
+    assert kept and run.t == t
+    np.testing.assert_array_equal(run.y, y)
+    assert run.scenario.mass.chi == 2.0
+    a = run.advance(1.0).theta[-1]
+    other = LiveRun(sc)
+    other.advance(1.0)
+    b = other.advance(1.0).theta[-1]
+    assert abs(a - b) > 1e-6  # the new damping acts at once
+
+
+def test_retune_restarts_when_asked_or_when_the_model_changes():
+    sc = _default()
+    run = LiveRun(sc)
+    run.advance(1.0)
+    assert not run.retune(sc, keep_state=False) and run.t == 0.0
+    run.advance(1.0)
+    assert not run.retune(sc, fidelity="averaged") and run.t == 0.0 and run.fidelity == "averaged"
+
+
+def test_retune_rejects_a_bad_scenario_without_changing_anything():
+    run = LiveRun(_default())
+    run.advance(0.5)
+    y = run.y.copy()
+    with pytest.raises(physics.ScenarioError):
+        run.retune(physics.default_scenario().with_values(**{"mass.m": 5.0}))
+    np.testing.assert_array_equal(run.y, y)
+
+
+def test_auto_resolves_and_says_why():
+    run = LiveRun(_default(fidelity="auto"))
+    assert run.requested == "auto" and run.fidelity in ("full", "averaged", "closed") and run.reason
+
+
+def test_braking_end_is_reported_at_T():
+    sc = physics.Scenario.load("assets/scenarios/braking_cavity_medium.toml").with_values(
+        **{"run.fidelity": "averaged"})
+    T = physics.derived(sc)["T"]
+    run = LiveRun(sc)
+    assert run.remaining_braking_time() == pytest.approx(T, rel=1e-9)
+    for _ in range(100):
+        run.advance(100.0)
+        if run.ended:
+            break
+    assert run.status == BRAKED and "braking" in run.message
+    assert run.t == pytest.approx(T, abs=TIME_TOL * T)
+    assert run.remaining_braking_time() == 0.0
+    assert len(run.advance(1.0)) == 0  # ended: nothing more, no exception
+
+
+def test_a_fault_is_reported_not_raised():
+    run = LiveRun(_default())
+    run.advance(0.5)
+    t, last = run.t, run.last
+    run.p = run.p * math.nan  # poison the parameters: the right-hand side turns non-finite
+    out = run.advance(0.5)
+    assert run.status == FAULT and "at t = " in run.message
+    assert len(out) == 0 and run.t == t and run.last is last
+    assert np.all(np.isfinite(run.y))
+    run.reset()
+    assert run.status == RUNNING and run.t == 0.0
+
+
+def test_pendulum_systems_step_live():
+    sc = physics.Scenario.from_dict({
+        "body": {"A": 1.0, "C": 1.4, "M": 1.0},
+        "plane_pendulum": [{"preset": "in_plane", "m": 0.03, "l": 0.2, "k": 0.5, "c_d": 0.01, "R": 0.5,
+                            "azimuth": a} for a in (0.0, 2.0944)],
+        "initial": {"G0": 2.0, "theta0": 0.3}, "run": {"t_end": 2.0, "samples": 3, "fidelity": "full"}})
+    ref = physics.simulate(sc)
+    run = LiveRun(sc)
+    run.advance(1.0)
+    tr = run.advance(1.0)
+    assert tr.theta[-1] == pytest.approx(ref.theta[-1], abs=ANGLE_TOL)
+    assert "a1" in tr.internal
+
+
+def test_braking_switched_on_mid_run_ends_at_the_remaining_time():
+    sc = _default(fidelity="averaged")
+    run = LiveRun(sc)
+    run.advance(1.0)
+    assert run.retune(sc.with_values(**{"control.b": 0.05}))
+    left = run.remaining_braking_time()
+    assert math.isfinite(left) and left > 0
+    while not run.ended:
+        run.advance(5.0)
+    assert run.status == BRAKED
+    assert run.t == pytest.approx(1.0 + left, abs=TIME_TOL * left)
