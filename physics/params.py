@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 from .errors import ScenarioError
 
 FIDELITIES = ("auto", "full", "averaged", "closed")
-METHODS = ("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA")
+METHODS = ("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA", "RK4", "RK8", "midpoint")
+FIXED_STEP_METHODS = ("RK4", "RK8", "midpoint")  # compiled fixed-step methods: they need run.dt
 LAWS = ("K", "Jw")
 MASS_STATES = ("rest", "quasistatic")
 
@@ -179,7 +180,9 @@ class Initial:
 @dataclass(frozen=True)
 class Run:
     """What to compute: fidelity, horizon t_end (s), optional output times, number of samples,
-    relative tolerance, and the integrator ("auto" picks the compiled DOP853)."""
+    relative tolerance, and the integrator ("auto" picks the compiled DOP853). ``dt`` (s) is the
+    largest step of the fixed-step methods (RK4, RK8, midpoint); the adaptive ones ignore it.
+    ``accuracy`` (rad, theta), if given, lets fidelity "auto" pick against it (physics/accuracy.py)."""
 
     t_end: float
     fidelity: str = "auto"
@@ -187,6 +190,8 @@ class Run:
     samples: int = 1001
     rtol: float = 1e-10
     method: str = "auto"
+    dt: float | None = None
+    accuracy: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "t_end", positive("run.t_end", self.t_end))
@@ -198,6 +203,16 @@ class Run:
         if not 1e-14 <= rtol <= 1e-2:
             raise ScenarioError("run.rtol", self.rtol, "must be in [1e-14, 1e-2]")
         object.__setattr__(self, "rtol", rtol)
+        if self.accuracy is not None:
+            object.__setattr__(self, "accuracy", positive("run.accuracy", self.accuracy))
+        if self.dt is not None:
+            dt = positive("run.dt", self.dt)
+            if dt > self.t_end:
+                raise ScenarioError("run.dt", self.dt, f"must not exceed run.t_end = {self.t_end:g}")
+            object.__setattr__(self, "dt", dt)
+        elif self.method in FIXED_STEP_METHODS:
+            raise ScenarioError("run.dt", None, f'is required by the fixed-step method "{self.method}" '
+                                "(the largest step, s)")
         if self.t_eval is not None:
             if not isinstance(self.t_eval, (list, tuple)) or len(self.t_eval) < 1:
                 raise ScenarioError("run.t_eval", self.t_eval, "must be a non-empty list of times")

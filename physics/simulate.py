@@ -9,9 +9,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .compiled import dispatch as kernels
-from .compiled import dop853
+from .compiled import dop853, fixed, midpoint
 from .errors import IntegrationFault, ScenarioError, ValidityWarning
 from .models.base import REGISTRY, Model, get_model
+from .params import FIXED_STEP_METHODS
 from .scenario import Scenario
 from .trajectory import Trajectory
 from .validity import choose_fidelity, closed_form_available, conditions
@@ -79,6 +80,8 @@ def integrate(model: Model, sc: Scenario, t: np.ndarray, method: str = "auto", p
     lam = float(sc.medium.lambda_) if sc.medium else 0.0
     if method == "auto":
         Y, t_out, info = _compiled(model, p, y0, t, rtol, atol, b, lam, progress)
+    elif method in FIXED_STEP_METHODS:
+        Y, t_out, info = _fixed(model, sc, p, y0, t, method, b, lam, progress)
     else:
         Y, t_out, info = _scipy(model, p, y0, t, method, rtol, atol, b)
     tr = model.observe(t_out, Y, p, sc)
@@ -144,3 +147,51 @@ def _scipy(model, p, y0, t, method, rtol, atol, b):
     return Y, t_out, dict(method=f"scipy {method}", nfev=int(sol.nfev), steps=steps, stop_reason=reason,
                           t_stop=float(t_out[-1]))
 
+
+
+def _fixed(model, sc, p, y0, t, method, b, lam, progress):
+    """The compiled fixed-step methods: RK4 and RK8 (physics/compiled/fixed.py) on any compiled
+    model, and the structure-preserving implicit midpoint (physics/compiled/midpoint.py) on the full
+    moving-mass model without external torques or cavity."""
+    dt = sc.run.dt
+    if dt is None:
+        raise ScenarioError("run.dt", None, f'is required by the fixed-step method "{method}" (the largest step, s)')
+    if method == "midpoint":
+        unsupported = [name for name, present in (("a cavity", sc.cavity is not None), ("a medium", lam > 0),
+                                                  ("a control", b > 0)) if present]
+        if model.kernel != kernels.MASS_FULL or unsupported:
+            why = "the full moving-mass model" + (" without " + ", ".join(unsupported) if unsupported else "")
+            raise ScenarioError("run.method", "midpoint", f"covers only the full moving-mass model with no cavity, "
+                                f"medium or control (this run has {why if unsupported else model.name}); "
+                                'use "auto" or "RK8"')
+    G0 = float(kernels.braking_norm(model.kernel, y0, p)) if b > 0 else 1.0
+    edges = np.unique(np.linspace(0, len(t) - 1, CHUNKS + 1 if progress else 2).astype(int))
+    Ys, y, nfev, nsteps = [y0[None, :]], y0, 0, 0
+    status, t_last = dop853.OK, t[0]
+    for i0, i1 in zip(edges[:-1], edges[1:], strict=True):
+        seg = np.ascontiguousarray(t[i0:i1 + 1], dtype=float)
+        if method == "midpoint":
+            Y, n, status, t_last, y_last, fe, st = midpoint.integrate(np.ascontiguousarray(y), p, seg, float(dt))
+        else:
+            Y, n, status, t_last, y_last, fe, st = fixed.run(fixed.TABLEAUS[method], model.kernel, y, p, seg, dt,
+                                                              b, lam, G0)
+        nfev, nsteps = nfev + fe, nsteps + st
+        Ys.append(Y[1:n])
+        if status != dop853.OK:
+            if t_last > (seg[n - 1] if n else -np.inf):
+                Ys.append(y_last[None, :])
+            break
+        y = Y[n - 1].copy()
+        if progress:
+            progress((t[i1] - t[0]) / (t[-1] - t[0]))
+    Y = np.vstack(Ys)
+    t_out = t[: len(Y)].copy()
+    if status != dop853.OK:
+        t_out[-1] = t_last
+    if status == midpoint.NO_CONVERGENCE:
+        raise IntegrationFault(midpoint.STATUS_TEXT, float(t_last))
+    if status in (dop853.NONFINITE, dop853.UNDERFLOW, dop853.MAX_STEPS, dop853.MODEL_FAULT):
+        raise IntegrationFault(dop853.STATUS_TEXT[status], float(t_last))
+    name = "implicit midpoint (compiled, structure-preserving)" if method == "midpoint" else f"{method} (compiled)"
+    return Y, t_out, dict(method=name, nfev=int(nfev), steps=int(nsteps), dt=float(dt),
+                          stop_reason=dop853.STATUS_TEXT[status], t_stop=float(t_out[-1]))

@@ -81,7 +81,14 @@ def conditions(sc: Scenario) -> list[Condition]:
 
 
 def choose_fidelity(sc: Scenario) -> tuple[str, str]:
-    """The cheapest model whose validity conditions hold, and why."""
+    """The cheapest model whose validity conditions hold, and why. With ``run.accuracy`` set, the
+    cheapest whose measured error bound meets it (physics/accuracy.py)."""
+    if sc.run.accuracy is not None:
+        from .accuracy import choose_for_accuracy
+
+        picked = choose_for_accuracy(sc)
+        if picked is not None:
+            return picked
     if sc.system in SYSTEMS:
         return SYSTEMS[sc.system][1](sc)
     failed = [c for c in averaged_conditions(sc) if not c.holds]

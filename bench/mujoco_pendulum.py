@@ -16,7 +16,7 @@ Geometry (body frame = carrier frame, origin at the carrier COM G_B):
   the frozen system is exact and only the bob's spin relative to the carrier is left unmodelled,
   a relative error of about POINT_INERTIA / (m l^2) ~ 1e-13.
 
-MuJoCo conventions (verified for MuJoCo 4.0.0 in tests/mujoco_moving_mass.py and
+MuJoCo conventions (verified for MuJoCo 4.0.0 in bench/mujoco_moving_mass.py and
 tests/test_mujoco_engine.py): free joint qvel = [v, w], v the world velocity of the carrier COM, w in
 body components; data.subtree_angmom[1] is the whole system's angular momentum about its COM (world
 frame), filled by mj_subtreeVel; data.energy needs the energy flag.
