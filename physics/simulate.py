@@ -92,13 +92,30 @@ def integrate(model: Model, sc: Scenario, t: np.ndarray, method: str = "auto", p
 def _compiled(model, p, y0, t, rtol, atol, b, lam, progress):
     """The compiled DOP853, in CHUNKS pieces when someone is watching the progress."""
     G0 = float(kernels.braking_norm(model.kernel, y0, p)) if b > 0 else 1.0
+    h = 0.0  # the step size carried from chunk to chunk
+
+    def step(y, seg, steps_done):
+        nonlocal h
+        Y, n, status, t_last, y_last, fe, st, h = dop853.integrate(
+            model.kernel, y, p, seg, rtol, atol, b, lam, MAX_STEPS - steps_done, h, G0)
+        return Y, n, status, t_last, y_last, fe, st
+
+    Y, t_out, status, t_last, nfev, nsteps = _chunked(step, y0, t, progress)
+    _raise_on_fault(status, t_last)
+    return Y, t_out, dict(method="DOP853 (compiled)", nfev=int(nfev), steps=int(nsteps),
+                          stop_reason=dop853.STATUS_TEXT[status], t_stop=float(t_out[-1]))
+
+
+def _chunked(step, y0, t, progress):
+    """Run ``step(y, times, steps_done) -> (Y, n, status, t_last, y_last, nfev, steps)`` over the
+    output times in CHUNKS pieces when someone watches the progress (else in one), joining the
+    pieces; an early stop keeps its last accepted state at its own time."""
     edges = np.unique(np.linspace(0, len(t) - 1, CHUNKS + 1 if progress else 2).astype(int))
-    Ys, y, h, nfev, nsteps = [y0[None, :]], y0, 0.0, 0, 0
+    Ys, y, nfev, nsteps = [y0[None, :]], y0, 0, 0
     status, t_last = dop853.OK, t[0]
     for i0, i1 in zip(edges[:-1], edges[1:], strict=True):
         seg = np.ascontiguousarray(t[i0:i1 + 1], dtype=float)
-        Y, n, status, t_last, y_last, fe, st, h = dop853.integrate(
-            model.kernel, y, p, seg, rtol, atol, b, lam, MAX_STEPS - nsteps, h, G0)
+        Y, n, status, t_last, y_last, fe, st = step(y, seg, nsteps)
         nfev, nsteps = nfev + fe, nsteps + st
         Ys.append(Y[1:n])
         if status != dop853.OK:
@@ -112,10 +129,12 @@ def _compiled(model, p, y0, t, rtol, atol, b, lam, progress):
     t_out = t[: len(Y)].copy()
     if status != dop853.OK:
         t_out[-1] = t_last
+    return Y, t_out, status, t_last, nfev, nsteps
+
+
+def _raise_on_fault(status, t_last):
     if status in (dop853.NONFINITE, dop853.UNDERFLOW, dop853.MAX_STEPS, dop853.MODEL_FAULT):
         raise IntegrationFault(dop853.STATUS_TEXT[status], float(t_last))
-    return Y, t_out, dict(method="DOP853 (compiled)", nfev=int(nfev), steps=int(nsteps),
-                          stop_reason=dop853.STATUS_TEXT[status], t_stop=float(t_out[-1]))
 
 
 def _scipy(model, p, y0, t, method, rtol, atol, b):
@@ -148,7 +167,6 @@ def _scipy(model, p, y0, t, method, rtol, atol, b):
                           t_stop=float(t_out[-1]))
 
 
-
 def _fixed(model, sc, p, y0, t, method, b, lam, progress):
     """The compiled fixed-step methods: RK4 and RK8 (physics/compiled/fixed.py) on any compiled
     model, and the structure-preserving implicit midpoint (physics/compiled/midpoint.py) on the full
@@ -165,33 +183,16 @@ def _fixed(model, sc, p, y0, t, method, b, lam, progress):
                                 f"medium or control (this run has {why if unsupported else model.name}); "
                                 'use "auto" or "RK8"')
     G0 = float(kernels.braking_norm(model.kernel, y0, p)) if b > 0 else 1.0
-    edges = np.unique(np.linspace(0, len(t) - 1, CHUNKS + 1 if progress else 2).astype(int))
-    Ys, y, nfev, nsteps = [y0[None, :]], y0, 0, 0
-    status, t_last = dop853.OK, t[0]
-    for i0, i1 in zip(edges[:-1], edges[1:], strict=True):
-        seg = np.ascontiguousarray(t[i0:i1 + 1], dtype=float)
+
+    def step(y, seg, steps_done):
         if method == "midpoint":
-            Y, n, status, t_last, y_last, fe, st = midpoint.integrate(np.ascontiguousarray(y), p, seg, float(dt))
-        else:
-            Y, n, status, t_last, y_last, fe, st = fixed.run(fixed.TABLEAUS[method], model.kernel, y, p, seg, dt,
-                                                              b, lam, G0)
-        nfev, nsteps = nfev + fe, nsteps + st
-        Ys.append(Y[1:n])
-        if status != dop853.OK:
-            if t_last > (seg[n - 1] if n else -np.inf):
-                Ys.append(y_last[None, :])
-            break
-        y = Y[n - 1].copy()
-        if progress:
-            progress((t[i1] - t[0]) / (t[-1] - t[0]))
-    Y = np.vstack(Ys)
-    t_out = t[: len(Y)].copy()
-    if status != dop853.OK:
-        t_out[-1] = t_last
+            return midpoint.integrate(np.ascontiguousarray(y), p, seg, float(dt))
+        return fixed.run(fixed.TABLEAUS[method], model.kernel, y, p, seg, dt, b, lam, G0)
+
+    Y, t_out, status, t_last, nfev, nsteps = _chunked(step, y0, t, progress)
     if status == midpoint.NO_CONVERGENCE:
         raise IntegrationFault(midpoint.STATUS_TEXT, float(t_last))
-    if status in (dop853.NONFINITE, dop853.UNDERFLOW, dop853.MAX_STEPS, dop853.MODEL_FAULT):
-        raise IntegrationFault(dop853.STATUS_TEXT[status], float(t_last))
+    _raise_on_fault(status, t_last)
     name = "implicit midpoint (compiled, structure-preserving)" if method == "midpoint" else f"{method} (compiled)"
     return Y, t_out, dict(method=name, nfev=int(nfev), steps=int(nsteps), dt=float(dt),
                           stop_reason=dop853.STATUS_TEXT[status], t_stop=float(t_out[-1]))
