@@ -21,13 +21,10 @@ Conventions checked in MuJoCo 4.0.0 (tests/test_mujoco_engine.py tests each one)
 
 from __future__ import annotations
 
-import math
-
 import mujoco
 import numpy as np
 
-POINT_INERTIA = 1e-12  # kg m^2; MuJoCo rejects a moving body with zero inertia, see build_model_xml
-STEP_MATCH = 1e-6  # relative slack allowed when an output spacing must be a whole number of steps
+from .mujoco_common import POINT_INERTIA, fmt, momentum_and_nutation, options, sample
 
 
 def carrier_inertia(A, B, C, M, m, rho):
@@ -53,17 +50,14 @@ def build_model_xml(A, B, C, M, m, rho, Omega, chi, dt=1e-3, integrator="RK4", p
     delta = m * chi
     zc = -m * rho / M0  # carrier COM on the axis, so that M0 zc + m rho = 0
     d0 = rho * M / M0  # = rho/(1-eta), carrier COM -> O1
-    f = "{:.17g}".format
+    f = fmt
     joint = '<joint name="u{0}" type="slide" axis="{1}" stiffness="{2}" damping="{3}" springref="0"/>'
     joints = "\n        ".join(
         joint.format(n, ax, f(c), f(delta)) for n, ax in (("x", "1 0 0"), ("y", "0 1 0"), ("z", "0 0 1"))
     )
     pi = f(point_inertia)
     return f"""<mujoco model="moving_mass">
-  <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>
-  <option timestep="{f(dt)}" integrator="{integrator}" gravity="0 0 0">
-    <flag energy="enable" contact="disable"/>
-  </option>
+  {options(dt, integrator)}
   <worldbody>
     <body name="carrier" pos="0 0 {f(zc)}">
       <freejoint name="carrier"/>
@@ -107,10 +101,7 @@ def initial_state(model, data, M, m, rho, omega0, u0=None, v0=None):
 def observe(model, data) -> dict:
     """Quantities of the current state (calls mj_forward and mj_subtreeVel)."""
     mujoco.mj_forward(model, data)
-    mujoco.mj_subtreeVel(model, data)
-    K = data.subtree_angmom[1].copy()
-    e3 = data.xmat[1].reshape(3, 3)[:, 2]
-    theta = math.atan2(np.linalg.norm(np.cross(K, e3)), float(K @ e3))
+    K, theta = momentum_and_nutation(model, data)
     return {
         "theta": theta,
         "K_world": K,
@@ -134,24 +125,9 @@ def run(
     com (n, 3) system COM, world frame; quat (n, 4) carrier attitude, scalar first, body -> world;
     and steps, the number of MuJoCo steps taken.
     """
-    t_out = np.asarray(t_out, float)
-    gaps = np.diff(np.concatenate([[0.0], t_out]))
-    if np.any(gaps < 0):
-        raise ValueError("t_out must be non-negative and increasing")
-    nsteps = np.rint(gaps / dt).astype(np.int64)
-    if np.any(np.abs(nsteps * dt - gaps) > STEP_MATCH * np.maximum(gaps, dt)):
-        raise ValueError(f"every output spacing must be a whole number of steps dt = {dt:g}")
     model = mujoco.MjModel.from_xml_string(
         build_model_xml(A, B, C, M, m, rho, Omega, chi, dt, integrator, point_inertia)
     )
     data = mujoco.MjData(model)
     initial_state(model, data, M, m, rho, omega0, u0, v0)
-    rows = []
-    for k in nsteps:
-        if k:
-            mujoco.mj_step(model, data, nstep=int(k))
-        rows.append(observe(model, data))
-    out = {key: np.array([r[key] for r in rows]) for key in rows[0]}
-    out["t"] = t_out
-    out["steps"] = int(nsteps.sum())
-    return out
+    return sample(model, data, t_out, dt, observe)

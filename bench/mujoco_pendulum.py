@@ -29,8 +29,7 @@ import math
 import mujoco
 import numpy as np
 
-POINT_INERTIA = 1e-12  # kg m^2
-STEP_MATCH = 1e-6  # relative slack allowed when an output spacing must be a whole number of steps
+from .mujoco_common import POINT_INERTIA, fmt, momentum_and_nutation, options, sample
 
 
 def build_model_xml(M0, I_c, m, l, k, c_d, pivot, dt=1e-3, integrator="RK4", point_inertia=POINT_INERTIA) -> str:
@@ -38,15 +37,12 @@ def build_model_xml(M0, I_c, m, l, k, c_d, pivot, dt=1e-3, integrator="RK4", poi
     I = np.asarray(I_c, float) - point_inertia * np.eye(3)
     if np.any(np.linalg.eigvalsh(I) <= 0) or M0 <= 0:
         raise ValueError("the carrier must keep a positive mass and inertia")
-    f = "{:.17g}".format
+    f = fmt
     full = " ".join(f(x) for x in (I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]))
     px, py, pz = (f(x) for x in pivot)
     pi = f(point_inertia)
     return f"""<mujoco model="spherical_pendulum">
-  <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>
-  <option timestep="{f(dt)}" integrator="{integrator}" gravity="0 0 0">
-    <flag energy="enable" contact="disable"/>
-  </option>
+  {options(dt, integrator)}
   <worldbody>
     <body name="carrier" pos="0 0 0">
       <freejoint name="carrier"/>
@@ -87,11 +83,9 @@ def initial_state(model, data, M0, m, l, pivot, omega0, alpha0=0.0, beta0=0.0):
 def observe(model, data) -> dict:
     """Quantities of the current state (calls mj_forward and mj_subtreeVel)."""
     mujoco.mj_forward(model, data)
-    mujoco.mj_subtreeVel(model, data)
-    H = data.subtree_angmom[1].copy()
-    e3 = data.xmat[1].reshape(3, 3)[:, 2]
+    H, theta = momentum_and_nutation(model, data)
     return {
-        "theta": math.atan2(np.linalg.norm(np.cross(H, e3)), float(H @ e3)),
+        "theta": theta,
         "H_world": H,
         "E": float(data.energy[0] + data.energy[1]),
         "omega_body": data.qvel[3:6].copy(),
@@ -108,23 +102,8 @@ def run(M0, I_c, m, l, k, c_d, pivot, omega0, t_out, dt, integrator="RK4", point
     """Step the MuJoCo model from t = 0 and sample it at ``t_out`` (s, increasing, >= 0; every gap
     a whole number of steps dt). Returns arrays over t_out (theta rad, H_world, E, omega_body,
     alpha, beta, com, ...) and ``steps``."""
-    t_out = np.asarray(t_out, float)
-    gaps = np.diff(np.concatenate([[0.0], t_out]))
-    if np.any(gaps < 0):
-        raise ValueError("t_out must be non-negative and increasing")
-    nsteps = np.rint(gaps / dt).astype(np.int64)
-    if np.any(np.abs(nsteps * dt - gaps) > STEP_MATCH * np.maximum(gaps, dt)):
-        raise ValueError(f"every output spacing must be a whole number of steps dt = {dt:g}")
     model = mujoco.MjModel.from_xml_string(build_model_xml(M0, I_c, m, l, k, c_d, pivot, dt, integrator,
                                                            point_inertia))
     data = mujoco.MjData(model)
     initial_state(model, data, M0, m, l, pivot, omega0)
-    rows = []
-    for n in nsteps:
-        if n:
-            mujoco.mj_step(model, data, nstep=int(n))
-        rows.append(observe(model, data))
-    out = {key: np.array([r[key] for r in rows]) for key in rows[0]}
-    out["t"] = t_out
-    out["steps"] = int(nsteps.sum())
-    return out
+    return sample(model, data, t_out, dt, observe)

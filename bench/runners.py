@@ -25,6 +25,17 @@ def log(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
+def save_figure(fig, path, title: str | None = None) -> None:
+    """Title, tidy, write at the charts' common resolution, and free the figure."""
+    import matplotlib.pyplot as plt
+
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def atol_for(rtol: float, y0: np.ndarray) -> float:
     """The project's absolute tolerance rule (physics.simulate), used for every peer too."""
     return rtol * ATOL_FACTOR * max(1.0, float(np.max(np.abs(y0))))

@@ -120,10 +120,8 @@ def stiffness(quick: bool, out: Path, img: Path) -> list[dict]:
     a2.set_ylabel(f"evaluations over {horizon:g} s")
     a2.legend(fontsize=8)
     a2.grid(True, which="both", alpha=0.3)
-    fig.suptitle("Stiffness: explicit steps shrink like 1/Omega; implicit methods step over the damped fast mode")
-    fig.tight_layout()
-    fig.savefig(img / "stability_stiffness.png", dpi=110)
-    plt.close(fig)
+    R.save_figure(fig, img / "stability_stiffness.png",
+                  "Stiffness: explicit steps shrink like 1/Omega; implicit methods step over the damped fast mode")
     return rows
 
 
@@ -179,10 +177,8 @@ def drift(quick: bool, out: Path, img: Path) -> list[dict]:
         ax.set_ylabel(f"relative change of {q}")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle(f"Long-time drift, undamped moving mass (eps = 0.1), {revolutions} revolutions")
-    fig.tight_layout()
-    fig.savefig(img / "stability_drift.png", dpi=110)
-    plt.close(fig)
+    R.save_figure(fig, img / "stability_drift.png",
+                  f"Long-time drift, undamped moving mass (eps = 0.1), {revolutions} revolutions")
     return rows
 
 
@@ -227,10 +223,8 @@ def validity(quick: bool, out: Path, img: Path) -> list[dict]:
     a2.set_ylabel("theta error (rad)")
     a2.grid(True, which="both", alpha=0.3)
     a2.legend(fontsize=8)
-    fig.suptitle("Averaged model's validity: error against eps and theta0 (prolate, MODELS A.7(a))")
-    fig.tight_layout()
-    fig.savefig(img / "stability_validity.png", dpi=110)
-    plt.close(fig)
+    R.save_figure(fig, img / "stability_validity.png",
+                  "Averaged model's validity: error against eps and theta0 (prolate, MODELS A.7(a))")
     return rows
 
 
@@ -304,9 +298,7 @@ def braking(quick: bool, out: Path, img: Path) -> list[dict]:
     a2.set_ylabel("|G| (kg m^2/s)")
     a2.legend(fontsize=8)
     a2.set_title("without an end the control chatters at |G| = 0")
-    fig.tight_layout()
-    fig.savefig(img / "stability_braking.png", dpi=110)
-    plt.close(fig)
+    R.save_figure(fig, img / "stability_braking.png")
     return rows
 
 

@@ -325,11 +325,8 @@ def charts(rows: list[dict], img: Path) -> list[Path]:
             ax.set_ylabel("error")
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7)
-        fig.suptitle(f"Work-precision: error against {label} (solid: project, dashed: peers)")
-        fig.tight_layout()
         path = img / name
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        R.save_figure(fig, path, f"Work-precision: error against {label} (solid: project, dashed: peers)")
         paths.append(path)
     return paths
 
