@@ -6,6 +6,8 @@ import argparse
 import sys
 import time
 
+import numpy as np
+
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
@@ -23,7 +25,17 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
 def main(argv: list[str] | None = None) -> int:
     args = parse(argv)
     start = time.perf_counter()
-    print("Quasirigid explorer: loading the physics...", flush=True)
+    if args.host not in LOOPBACK:
+        print(f"warning: --host {args.host} makes the explorer reachable from other machines; it has no "
+              "authentication", file=sys.stderr, flush=True)
+    print("Quasirigid explorer: starting the server...", flush=True)
+    import viser  # the web server first, so a browser loads the page while the physics loads
+
+    server = viser.ViserServer(host=args.host, port=args.port, label="Quasirigid")
+    shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
+    url = f"http://{shown}:{server.get_port()}"
+    print(f"serving {url}; loading the physics and preparing the integrator (compiled once per machine, then "
+          "cached)...", flush=True)
     import physics
 
     scenario = mesh = None
@@ -35,23 +47,30 @@ def main(argv: list[str] | None = None) -> int:
 
             base = scenario or physics.default_scenario()
             mesh = load_mesh(args.mesh, base.body.M)
-            scenario = with_mesh(base, mesh)
+            try:
+                scenario = with_mesh(base, mesh)
+                physics.LiveRun(scenario)  # the parts must fit the mesh's inertia
+            except physics.ScenarioError as exc:
+                if args.scenario:
+                    raise
+                from .mesh import scaled_to  # the default scene's parts do not fit: scale the mesh to them
+
+                scale = float(np.sqrt(np.sum(scaled_to(mesh, base.body).moments) / np.sum(mesh.moments)))
+                mesh = scaled_to(mesh, base.body)
+                scenario = with_mesh(base, mesh)
+                print(f"mesh {args.mesh}: as given, the default scene's parts do not fit it ({exc}); drawn "
+                      f"{scale:.3g} times its size instead (give --scenario to keep its size)", flush=True)
             print(f"mesh {args.mesh}: principal moments A, B, C = {', '.join(f'{x:.6g}' for x in mesh.moments)} "
                   "kg m^2", flush=True)
         if scenario is not None:
             physics.LiveRun(scenario)
     except physics.ScenarioError as exc:
+        server.stop()
         print(f"error: {exc}", file=sys.stderr)
         return 2
     from .server import App, warm_up
 
-    if args.host not in LOOPBACK:
-        print(f"warning: --host {args.host} makes the explorer reachable from other machines; it has no "
-              "authentication", file=sys.stderr, flush=True)
-    app = App(host=args.host, port=args.port, scenario=scenario, mesh=mesh)
-    shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
-    url = f"http://{shown}:{app.port}"
-    print(f"serving {url}; preparing the integrator (compiled once per machine, then cached)...", flush=True)
+    app = App(scenario=scenario, mesh=mesh, server=server)
     warm_up()
     print(f"Quasirigid explorer ready in {time.perf_counter() - start:.1f} s: {url}", flush=True)
     try:

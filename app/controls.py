@@ -87,8 +87,9 @@ CAVITY_DEFAULTS = {"beta": 1000.0, "nu": 20.0, "a0": 0.1}
 MASS_DEFAULTS = {"m": 0.1, "rho": 1.5, "Omega": 8.0, "chi": 8.0}
 
 
-def values_of(sc: physics.Scenario) -> dict[str, float]:
-    """Slider values that describe ``sc`` (0 for an absent part, the part's default otherwise)."""
+def values_of(sc: physics.Scenario, bob: int | None = None) -> dict[str, float]:
+    """Slider values that describe ``sc`` (0 for an absent part, the part's default otherwise). The
+    pendulum sliders show plane pendulum number ``bob`` (0-based), or the first when None."""
     v: dict[str, float] = {"body.A": sc.body.A, "body.B": sc.body.B, "body.C": sc.body.C, "body.M": sc.body.M}
     ms = sc.mass
     v.update({"mass.m": ms.m if ms else 0.0, "mass.rho": ms.rho if ms else MASS_DEFAULTS["rho"],
@@ -99,29 +100,41 @@ def values_of(sc: physics.Scenario) -> dict[str, float]:
               "cavity.a0": cav.a0 if cav else CAVITY_DEFAULTS["a0"]})
     v["medium.lambda"] = sc.medium.lambda_ if sc.medium else 0.0
     v["control.b"] = sc.control.b if sc.control else 0.0
-    bob = sc.pendulum or (sc.plane_pendulums[0] if sc.plane_pendulums else None)
+    pick = bob if bob is not None and 0 <= bob < len(sc.plane_pendulums) else 0
+    bob = sc.pendulum or (sc.plane_pendulums[pick] if sc.plane_pendulums else None)
     v.update({"pendulum.m": bob.m if bob else 0.05, "pendulum.l": bob.l if bob else 0.3,
               "pendulum.h": sc.pendulum.h if sc.pendulum else 0.5,
-              "pendulum.k": bob.k if bob and not isinstance(bob.k, str) else 0.0,
+              "pendulum.k": _stiffness(sc, bob),
               "pendulum.c_d": bob.c_d if bob else 0.01})
     _, G0, theta0 = initial_G(sc)
     v.update({"initial.G0": G0, "initial.theta0": theta0})
     return {k: float(x) for k, x in v.items()}
 
 
+def _stiffness(sc: physics.Scenario, bob) -> float:
+    """A bob's spring k; a tuned one ("resonant", "optimal") as physics resolves it."""
+    if bob is None:
+        return 0.0
+    if isinstance(bob.k, str):
+        return float(physics.derived(sc)["k"])
+    return bob.k
+
+
 def apply_changes(base: physics.Scenario, changes: dict[str, float | str]) -> physics.Scenario:
     """``base`` with the slider changes applied, validated by physics (raises ScenarioError).
 
     A zero ``lambda``, ``b``, ``beta`` or mass ``m`` removes the medium, the control, the cavity or the
-    mass; a positive one adds it. Pendulum values apply to every bob. ``pendulum.k`` may be
-    "resonant". ``initial.G0``/``theta0`` replace an ``omega`` given in the file.
+    mass; a positive one adds it. Pendulum values apply to every bob, or with a key ``pendulum.k#i``
+    to plane pendulum i (0-based) only. ``pendulum.k`` may be "resonant". ``initial.G0``/``theta0``
+    replace an ``omega`` given in the file.
     """
     data = base.to_dict()
     system = base.system
-    for key, value in changes.items():
+    for full_key, value in changes.items():
+        key, _, which = full_key.partition("#")
         table, _, name = key.partition(".")
-        if key not in BY_KEY:
-            raise physics.ScenarioError(key, value, "is not a parameter of the explorer")
+        if key not in BY_KEY or (which and table != "pendulum"):
+            raise physics.ScenarioError(full_key, value, "is not a parameter of the explorer")
         if system not in BY_KEY[key].systems:
             continue  # e.g. a mass slider while a pendulum scene runs: kept for later, not applied
         if table == "body":
@@ -153,7 +166,13 @@ def apply_changes(base: physics.Scenario, changes: dict[str, float | str]) -> ph
             if system == "spherical_pendulum":
                 data["pendulum"][name] = value
             else:
-                for pp in data["plane_pendulum"]:
+                bobs = data["plane_pendulum"]
+                if which:
+                    if not which.isdigit() or int(which) >= len(bobs):
+                        raise physics.ScenarioError(full_key, value, f"names no bob: this scene has {len(bobs)}, "
+                                                    f"numbered 0 to {len(bobs) - 1}")
+                    bobs = [bobs[int(which)]]
+                for pp in bobs:
                     pp[name] = value
         elif table == "initial":
             ini = data["initial"]
@@ -166,6 +185,14 @@ def apply_changes(base: physics.Scenario, changes: dict[str, float | str]) -> ph
         for k, x in MASS_DEFAULTS.items():
             data["mass"].setdefault(k, x)
     return physics.Scenario.from_dict(data)
+
+
+def merge_changes(changes: dict, pending: dict) -> dict:
+    """``changes`` updated by ``pending``, latest last: a change to every bob (``pendulum.k``) drops the
+    earlier per-bob ones (``pendulum.k#i``), so the order of application is the order of the user's moves."""
+    out = {k: v for k, v in changes.items() if k not in pending and k.partition("#")[0] not in pending}
+    out.update(pending)
+    return out
 
 
 def restarts(changed: dict) -> bool:

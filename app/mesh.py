@@ -14,6 +14,9 @@ import numpy as np
 
 import physics
 
+MESH_DIR = Path(__file__).resolve().parents[1] / "assets" / "meshes"
+MESH_SUFFIXES = (".stl", ".obj", ".ply", ".glb", ".off")
+INERTIA_SHAPE = "inertia shape"  # the GUI's name for "no mesh: the uniform solid of the body's inertia"
 SYMMETRIC = 1e-6  # relative |A - B| below which a mesh counts as axisymmetric (facets break the symmetry)
 
 
@@ -70,3 +73,23 @@ def with_mesh(sc: physics.Scenario, mesh: BodyMesh) -> physics.Scenario:
     if abs(A - B) <= SYMMETRIC * A:  # a symmetric mesh, up to its facets: let the averaged models apply
         A = B = 0.5 * (A + B)
     return sc.with_values(**{"body.A": A, "body.B": B, "body.C": C})
+
+
+def asset_names() -> list[str]:
+    """The meshes shipped in assets/meshes (file names), for the GUI's body dropdown."""
+    return sorted(p.name for p in MESH_DIR.iterdir() if p.suffix.lower() in MESH_SUFFIXES) if MESH_DIR.is_dir() else []
+
+
+def asset_path(name: str) -> Path:
+    """The path of a shipped mesh by its file name; anything else (a path, "..") is refused, so what a
+    browser sends can never name a file outside assets/meshes."""
+    if name not in asset_names():
+        raise physics.ScenarioError("body mesh", name, f"is not a mesh in assets/meshes ({', '.join(asset_names())})")
+    return MESH_DIR / name
+
+
+def scaled_to(mesh: BodyMesh, body: physics.Body) -> BodyMesh:
+    """``mesh`` scaled uniformly so that its moments sum to A + B + C of ``body`` (same mass): an asset's
+    shape and inertia ratios, at the size of the scene it joins, so the internal parts still fit."""
+    s = float(np.sqrt((body.A + body.B + body.C) / np.sum(mesh.moments)))
+    return BodyMesh(vertices=mesh.vertices * s, faces=mesh.faces, moments=mesh.moments * s * s, name=mesh.name)

@@ -1,5 +1,7 @@
-"""The explorer's presets: the built-in default, the scenario files in assets/scenarios, and a few
-scenes that have no file (pendulum dampers, seed 000's braking, the intermediate-axis flip)."""
+"""The explorer's presets: the built-in default, the scenario files in assets/scenarios, a few
+scenes that have no file (pendulum dampers, seed 000's braking, the intermediate-axis flip), and one
+representative run of each reproduced figure (assets/scenarios/figures, written by
+``python -m bench figures --presets``; each file's first line ``# preset: TITLE`` gives its title)."""
 
 from __future__ import annotations
 
@@ -8,6 +10,8 @@ from pathlib import Path
 import physics
 
 ASSETS = Path(__file__).resolve().parents[1] / "assets" / "scenarios"
+FIGURES = ASSETS / "figures"
+TITLE_LINE = "# preset: "  # the first line of a figure preset file (bench/figures.py PRESET_HEADER)
 DEFAULT = "Default: oblate body settling (1 min)"
 
 # Scenes without a file. Each is a scenario dict in the TOML layout (README "Use").
@@ -50,12 +54,42 @@ FILE_TITLES = {
     "prolate_flat_spin": "Explorer 1's flat spin",
     "braking_cavity_medium": "Braking with a cavity and a medium (seed 004)",
     "quadratic_friction": "Quadratic friction (seed 000)",
+    "pendulum_resonant": "Seed 002 set R: spherical pendulum tuned to resonance",
+    "pendulum_detuned": "Seed 002 set R: spherical pendulum detuned (lambda_1 = Omega/2)",
+    "pendulum_asymmetric": "Seed 002: asymmetric carrier with a resonant pendulum",
+    "pendulum_prolate": "Seed 002: prolate carrier, the damper makes the nutation grow",
+    "plane_pendulums_three": "Taylor's damper: three plane pendulums (seed 002)",
 }
 
 
-def preset_names() -> list[str]:
+def _title(path: Path) -> str:
+    if path.parent == FIGURES:
+        with path.open(encoding="utf-8") as fh:
+            first = fh.readline().strip()
+        if first.startswith(TITLE_LINE):
+            return first[len(TITLE_LINE):].strip()
+    return FILE_TITLES.get(path.stem, path.stem)
+
+
+FIGURE_ORDER = ("seed000", "seed004", "seed002")  # docs/figures.md's order
+
+
+def _figure_order(f: Path) -> tuple[int, str]:
+    return next((i for i, p in enumerate(FIGURE_ORDER) if f.stem.startswith(p)), len(FIGURE_ORDER)), f.stem
+
+
+def preset_files() -> dict[str, Path]:
+    """Title -> scenario file: assets/scenarios/*.toml, then the figure presets in the order bench wrote them."""
     files = sorted(ASSETS.glob("*.toml")) if ASSETS.is_dir() else []
-    return [DEFAULT] + [FILE_TITLES.get(f.stem, f.stem) for f in files] + list(BUILT_IN)
+    if FIGURES.is_dir():
+        files += sorted(FIGURES.glob("*.toml"), key=_figure_order)
+    return {_title(f): f for f in files}
+
+
+def preset_names() -> list[str]:
+    files = preset_files()
+    figures = [t for t, f in files.items() if f.parent == FIGURES]
+    return [DEFAULT] + [t for t in files if t not in figures] + list(BUILT_IN) + figures
 
 
 def load_preset(name: str) -> physics.Scenario:
@@ -64,10 +98,7 @@ def load_preset(name: str) -> physics.Scenario:
         return physics.default_scenario()
     if name in BUILT_IN:
         return physics.Scenario.from_dict(BUILT_IN[name])
-    for f in sorted(ASSETS.glob("*.toml")):
-        if FILE_TITLES.get(f.stem, f.stem) == name:
-            return physics.Scenario.load(f)
-    raise KeyError(name)
+    return physics.Scenario.load(preset_files()[name])
 
 
 WARP_MIN, WARP_MAX = 0.1, 1e4

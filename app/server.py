@@ -14,21 +14,25 @@ import warnings
 from collections import deque
 
 import numpy as np
-import trimesh
 import viser
 
 import physics
 
 from . import controls, plots, presets
-from .scene import trail_segments
+from .mesh import INERTIA_SHAPE, asset_names
+from .scene import box_mesh, cylinder_mesh, trail_segments
 from .state import FRAME_HZ, Engine
 
 COLORS = {"body": (120, 150, 200), "ellipsoid": (240, 200, 80), "mass": (220, 40, 40), "rest": (60, 60, 60),
           "spring": (40, 40, 40), "K": (30, 160, 60), "omega": (40, 90, 230), "axis": (120, 120, 120),
-          "torque": (220, 60, 200), "trail": (230, 120, 20), "bob": (200, 30, 30), "cavity": (60, 160, 230)}
+          "torque": (220, 60, 200), "trail": (230, 120, 20), "polhode": (150, 40, 200), "bob": (200, 30, 30),
+          "cavity": (60, 160, 230)}
 
 
 SCENE_SIZE = 1.5  # scene units the body spans, whatever its size in metres
+CROWD = 4  # tabs on one server beyond which each gets CROWD_HZ frames per second instead of FRAME_HZ
+CROWD_HZ = 40.0  # still smooth, and ten tabs fit one core's worth of Python (docs/reliability.md)
+CROWD_PLOT_HZ = 5.0  # plots, readouts and trails of a crowd: their arrays are the heavy part of a frame
 
 
 class Session:
@@ -85,15 +89,31 @@ class Session:
                                             initial_value="none",
                                             hint="a cheaper fidelity's theta(t), computed with physics.simulate")
             self.tune_btn = gui.add_button("Tune to resonance", hint="spherical pendulum: k = resonant (MODELS B.5)")
+        self.panels: dict = {}
         self.sliders, self.folders = controls.build_sliders(gui, eng.values)
+        with self.folders["Pendulum damper"]:
+            self.bob = gui.add_dropdown("bob", ["all", "1", "2", "3"], initial_value="all",
+                                        hint="plane pendulums: which bob the sliders above edit")
         with gui.add_folder("View"):
             self.view = gui.add_dropdown("Frame", ["inertial", "body"], initial_value="inertial",
                                          hint="inertial: K fixed and pointing up; body: the body stays still")
             self.exag = gui.add_slider("exaggerate u (x)", min=1.0, max=1000.0, step=1.0, initial_value=10.0,
                                        hint="the mass's displacement is drawn this many times larger")
-        with gui.add_folder("Export", expand_by_default=False):
+            self.polhode = gui.add_checkbox("polhode", False, hint="the tip of omega on the inertia ellipsoid, in "
+                                            "the body (Poinsot): closed loops when nothing dissipates")
+            self.body_mesh = gui.add_dropdown("body drawn as", [INERTIA_SHAPE, *asset_names()],
+                                              initial_value=INERTIA_SHAPE,
+                                              hint="a mesh from assets/meshes: its inertia ratios replace A, B, C "
+                                              "(scaled to keep A + B + C); restarts the run")
+        with gui.add_folder("File", expand_by_default=False):
             self.toml_btn = gui.add_button("Download scenario (TOML)")
             self.csv_btn = gui.add_button("Download trajectory (CSV)")
+            self.upload = gui.add_upload_button("Load scenario (TOML)", mime_type=".toml",
+                                                hint="a scenario file, as `python -m physics` reads (64 kB at most)")
+        self._lazy_panel("Speed vs accuracy", "speed_panel", "SpeedPanel",
+                         lambda sc: eng.request("scenario", (sc, f"{eng.preset} (recommended method)")))
+        self._lazy_panel("Sweep", "sweep_panel", "SweepPanel",
+                         lambda sc: eng.request("scenario", (sc, "sweep point")))
 
         def on(handle, action, convert=lambda v: v):
             @handle.on_update
@@ -120,6 +140,9 @@ class Session:
         on(self.overlay, "overlay")
         on(self.view, "view")
         on(self.exag, "exaggeration")
+        on(self.polhode, "polhode")
+        on(self.body_mesh, "mesh")
+        on(self.bob, "bob", lambda v: None if v == "all" else int(v) - 1)
         for key, slider in self.sliders.items():
             self._bind_slider(key, slider)
 
@@ -130,6 +153,30 @@ class Session:
         @self.csv_btn.on_click
         def _(event):
             (event.client or self.client).send_file_download("trajectory.csv", eng.csv(), save_immediately=True)
+
+        @self.upload.on_upload
+        def _(_event):
+            f = self.upload.value
+            eng.request("upload", (f.name, f.content))
+
+    def _lazy_panel(self, title: str, module: str, cls: str, apply) -> None:
+        """A folder whose panel is built on first open: panels pull in plotly (and its script in the
+        browser), which the first frame should not wait for."""
+        gui = self.client.gui
+        with gui.add_folder(title, expand_by_default=False) as folder:
+            opener = gui.add_button(f"Open the {title.lower()} panel")
+
+        @opener.on_click
+        def _(_event):
+            import importlib
+
+            try:
+                panel_class = getattr(importlib.import_module(f".{module}", __package__), cls)
+                with folder:
+                    self.panels[title] = panel_class(gui, lambda: self.engine.scenario, apply)
+                opener.remove()
+            except Exception as exc:  # a panel that cannot open says so; the tab runs on
+                self.engine.error = f"{title} panel: {type(exc).__name__}: {exc}"
 
     def _bind_slider(self, key: str, slider) -> None:
         @slider.on_update
@@ -153,6 +200,16 @@ class Session:
         for title in ("Seed 004: mass, medium, braking", "Friction and cavity"):
             _set(self.folders[title], "visible", system == "moving_mass")
         _set(self.tune_btn, "visible", system == "spherical_pendulum")
+        n = len(eng.scenario.plane_pendulums)
+        _set(self.bob, "visible", n > 0)
+        if n > 0:
+            _set(self.bob, "options", ("all", *(str(i + 1) for i in range(n))))
+            _set(self.bob, "value", "all" if eng.bob is None else str(eng.bob + 1))
+        _set(self.body_mesh, "value", eng.mesh.name if eng.mesh is not None and eng.mesh.name in asset_names()
+             else INERTIA_SHAPE)
+        for panel in self.panels.values():  # a new scene may have other sliders to sweep
+            if hasattr(panel, "refresh"):
+                panel.refresh()
         _set(self.warp, "value", float(np.log10(eng.warp)))
         if eng.preset in presets.preset_names():
             _set(self.preset, "value", eng.preset)
@@ -190,11 +247,9 @@ class Session:
         if eng.mesh is not None:
             vertices, faces = eng.mesh.vertices, eng.mesh.faces
         elif shape.kind == "box":
-            m = trimesh.creation.box(extents=shape.dims)
-            vertices, faces = m.vertices, m.faces
+            vertices, faces = box_mesh(shape.dims)
         else:
-            m = trimesh.creation.cylinder(radius=shape.radius, height=shape.height, sections=48)
-            vertices, faces = m.vertices, m.faces
+            vertices, faces = cylinder_mesh(shape.radius, shape.height)
         self.handles["shape"] = sc.add_mesh_simple(f"{r}/body/shape", np.asarray(vertices) * k, faces,
                                                    color=COLORS["body"], opacity=0.45, flat_shading=False)
         self.handles["ellipsoid"] = sc.add_icosphere(f"{r}/body/ellipsoid", radius=1.0, color=COLORS["ellipsoid"],
@@ -223,6 +278,8 @@ class Session:
                                   for n in ("K", "omega", "e3", "torque")]
         self.handles["trail"] = sc.add_line_segments(f"{r}/trail", np.zeros((1, 2, 3)), COLORS["trail"],
                                                      thickness=0.003 * s)
+        self.handles["polhode"] = sc.add_line_segments(f"{r}/body/polhode", np.zeros((1, 2, 3)), COLORS["polhode"],
+                                                       thickness=0.004 * s, visible=False)
 
     def _publish(self, fr, plots_now: bool) -> None:
         eng = self.engine
@@ -238,9 +295,10 @@ class Session:
             vecs = [k * v for v in (fr.K_vec, fr.omega_vec, fr.axis_vec)]
             vecs.append(k * fr.torque_vec if fr.torque_vec is not None else origin)
             h["arrows"].points = np.array([[origin, v] for v in vecs])
-            for lab, v in zip(h["labels"], vecs, strict=True):
-                lab.position = tuple(1.08 * v)
-                lab.visible = bool(np.linalg.norm(v) > 0)
+            if plots_now:  # labels and trails change slowly: at the plots' rate, not every frame
+                for lab, v in zip(h["labels"], vecs, strict=True):
+                    lab.position = tuple(1.08 * v)
+                    _set(lab, "visible", bool(np.linalg.norm(v) > 0))
             if fr.mass_pos is not None and "mass" in h:
                 h["mass"].position = tuple(k * fr.mass_pos)
                 h["spring"].points = k * np.array([[fr.mass_rest, fr.mass_pos]])
@@ -249,8 +307,11 @@ class Session:
                 if f"bob{i}" in h:
                     h[f"bob{i}"].position = tuple(k * bob)
                     h[f"arm{i}"].points = k * np.array([[pivot, bob]])
-            if fr.trail is not None and len(fr.trail):
+            if plots_now and fr.trail is not None and len(fr.trail):
                 h["trail"].points = trail_segments(k * fr.trail)
+            _set(h["polhode"], "visible", fr.polhode is not None)
+            if plots_now and fr.polhode is not None and len(fr.polhode):
+                h["polhode"].points = trail_segments(k * fr.polhode)
             if eng.sliders_changed:
                 eng.sliders_changed = False
                 self._sync_widgets()
@@ -260,16 +321,15 @@ class Session:
                 plots.update_plots(self.plots, eng.plot_data(), eng.has_overlay)
                 self.readout_md.content = _readout_md(eng)
                 self.badge_md.content = eng.badge()
-            self.error_md.content = (f"<span style='color:#c00'>**Rejected:** {eng.error}</span>"
-                                     if eng.error else "")
+            _set(self.error_md, "content", f"<span style='color:#c00'>**Rejected:** {eng.error}</span>"
+                 if eng.error else "")
             state = "playing" if eng.playing else "paused"
             if fr.status != "running":
                 state = fr.status + (": " + fr.message if fr.message else "")
-            self.status_md.content = f"**Quasirigid explorer** · {state} · warp {eng.warp:.3g}x"
+            _set(self.status_md, "content", f"**Quasirigid explorer** · {state} · warp {eng.warp:.3g}x")
 
     # ---- the loop ----------------------------------------------------------------------------------
     def _loop(self) -> None:
-        period = 1.0 / FRAME_HZ
         last = deadline = time.perf_counter()
         next_plot = 0.0
         while not self.stop.is_set():
@@ -280,7 +340,8 @@ class Session:
                 ticked = time.perf_counter()
                 plots_now = now >= next_plot
                 if plots_now:
-                    next_plot = now + 1.0 / plots.PLOT_HZ
+                    crowded = self.stats.get("sessions", 1) > CROWD
+                    next_plot = now + 1.0 / (CROWD_PLOT_HZ if crowded else plots.PLOT_HZ)
                 self._publish(fr, plots_now)
                 self.frame_ms.append((1e3 * (ticked - now), 1e3 * (time.perf_counter() - ticked)))
                 self.published += 1
@@ -296,7 +357,8 @@ class Session:
                 self.engine.error = "internal error: " + traceback.format_exc(limit=1).strip().splitlines()[-1]
                 traceback.print_exc()
                 time.sleep(0.2)
-            deadline += period  # a fixed schedule, so the rate does not drift below FRAME_HZ
+            # a fixed schedule, so the rate does not drift; many tabs share the GIL, so a crowd gets fewer frames
+            deadline += 1.0 / (FRAME_HZ if self.stats.get("sessions", 1) <= CROWD else CROWD_HZ)
             sleep = deadline - time.perf_counter()
             if sleep > 0:
                 self.stop.wait(sleep)
@@ -326,12 +388,14 @@ class App:
     """The server and its sessions."""
 
     def __init__(self, host: str = "127.0.0.1", port: int = 8080, scenario: physics.Scenario | None = None,
-                 mesh=None):
+                 mesh=None, server: viser.ViserServer | None = None):
+        """``server``: one already serving (``python -m app`` starts it before loading the physics, so a
+        browser fetches the page meanwhile); tabs that connected before are served now."""
         self.scenario = scenario
         self.mesh = mesh
         # a tab's last frame can race its disconnection; viser then warns that the message is dropped
         warnings.filterwarnings("ignore", message="Queued a .* on a closed connection")
-        self.server = viser.ViserServer(host=host, port=port, label="Quasirigid")
+        self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
         self.sessions: dict[int, Session] = {}
         self.stats: dict = {}
         self.server.on_client_connect(self._connect)
@@ -340,13 +404,16 @@ class App:
     def _connect(self, client: viser.ClientHandle) -> None:
         try:
             self.sessions[client.client_id] = Session(self.server, client, self.scenario, self.stats, self.mesh)
+            self.stats["sessions"] = len(self.sessions)
         except Exception:
             traceback.print_exc()
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
         s = self.sessions.pop(client.client_id, None)
+        self.stats["sessions"] = len(self.sessions)
         if s is not None:
             s.close()
+            _trim_heap()
 
     @property
     def port(self) -> int:
@@ -356,6 +423,18 @@ class App:
         for s in list(self.sessions.values()):
             s.close()
         self.server.stop()
+
+
+def _trim_heap() -> None:
+    """Hand freed memory back to the system after a tab closes: glibc keeps a closed session's
+    buffers (about 1 MB each) otherwise, and a server that sees many reconnections grows
+    (docs/reliability.md). Elsewhere than glibc this does nothing."""
+    try:
+        import ctypes
+
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
 
 
 def warm_up() -> None:

@@ -53,6 +53,7 @@ class Frame:
     mass_pos: np.ndarray | None = None
     bobs: list = field(default_factory=list)  # [(pivot, bob)] body frame, m
     trail: np.ndarray | None = None  # (n, 3) scene coordinates, on a sphere of radius trail_radius
+    polhode: np.ndarray | None = None  # (n, 3) body frame, m: omega's tip on the drawn inertia ellipsoid
     status: str = "running"
     message: str = ""
     applied: int = 0  # sequence number of the last GUI change reflected in this frame
@@ -72,6 +73,9 @@ class Engine:
         self.restart_on_change = False
         self.view = "inertial"
         self.exaggeration = 10.0
+        self.bob: int | None = None  # plane pendulum the pendulum sliders edit (0-based); None = every bob
+        self.show_polhode = False
+        self._badge: tuple | None = None  # (scenario, markdown) of the last badge
         self.overlay_fidelity = "none"
         self.error = ""
         self._overlay_thread: threading.Thread | None = None
@@ -90,6 +94,9 @@ class Engine:
 
     # ---- requests from GUI callbacks (any thread) -------------------------------------------
     def request_value(self, key: str, value) -> int:
+        """A slider's new value. Pendulum sliders edit the bob chosen with the "bob" action."""
+        if key.startswith("pendulum.") and self.bob is not None and self.scenario.system == "plane_pendulums":
+            key = f"{key}#{self.bob}"
         with self._lock:
             self._pending[key] = value
             return self._bump()
@@ -115,6 +122,7 @@ class Engine:
         self.base = sc
         self.preset = name
         self.changes: dict = {}
+        self.bob = None
         self.values = controls.values_of(sc)
         self.run = run
         self.warp = DEFAULT_WARP if name == presets.DEFAULT else presets.suggested_warp(sc)
@@ -125,6 +133,7 @@ class Engine:
         """Buffers and reference directions for a run that starts now (or was retuned)."""
         self.plot = Ring(PLOT_POINTS, 4)
         self.trail = Ring(TRAIL_POINTS, 3)
+        self.polhode = Ring(TRAIL_POINTS, 3)
         self.history = Ring(HISTORY_ROWS, len(self.run.last.columns))
         self.history_columns = self.run.last.columns
         self.shape = self._shape(self.scenario)
@@ -175,13 +184,19 @@ class Engine:
         self.applied_seq = seq
 
     def _apply_values(self, pending: dict) -> None:
-        changes = {**self.changes, **pending}
+        changes = controls.merge_changes(self.changes, pending)
         sc = controls.apply_changes(self.base, changes)  # ScenarioError leaves everything as it was
         sc = sc.replace(run=_with_fidelity(sc.run, self.fidelity_choice))
         restart = self.restart_on_change or controls.restarts(pending)
         kept = self.run.retune(sc, keep_state=not restart)
         self.changes = changes
-        self.values.update({k: v for k, v in pending.items() if not isinstance(v, str)})
+        for k, v in pending.items():
+            key, _, which = k.partition("#")
+            if not isinstance(v, str) and (not which or int(which) == (self.bob or 0)):
+                self.values[key] = v
+        if sc.pendulum is not None and isinstance(sc.pendulum.k, str):
+            self.values["pendulum.k"] = controls.values_of(sc)["pendulum.k"]  # "resonant" resolved: show the k
+            self.sliders_changed = True
         self.error = ""
         self.shape = self._shape(sc)
         if self.static_signature() != self._drawn:
@@ -235,8 +250,48 @@ class Engine:
             self.plots_changed = True
         elif action == "tune":
             self._apply_values({"pendulum.k": "resonant"})
+        elif action == "bob":
+            n = len(self.scenario.plane_pendulums)
+            self.bob = None if value in (None, "all") or n == 0 else min(max(int(value), 0), n - 1)
+            self.values.update({k: v for k, v in controls.values_of(self.scenario, self.bob).items()
+                                if k.startswith("pendulum.")})
+            self.sliders_changed = True
+        elif action == "polhode":
+            self.show_polhode = bool(value)
+            self.polhode.clear()
+        elif action == "mesh":
+            self._use_mesh(value)
+        elif action == "upload":  # (file name, bytes) from the browser: through the parser, size-capped
+            from .upload import display_name, parse_upload
+
+            name, content = value
+            sc = parse_upload(name, content)
+            self.mesh = None
+            self._load(sc, f"upload {display_name(name)}")
+            self.error = ""
+        elif action == "scenario":  # (Scenario, label) from a panel: a sweep's point, a recommended method
+            sc, label = value
+            self.mesh = None
+            self._load(sc, label)
+            self.error = ""
         else:
             raise ValueError(f"unknown action {action!r}")
+
+    def _use_mesh(self, name: str) -> None:
+        """Draw the body as a mesh from assets/meshes, or as the uniform shape of its inertia again
+        ("inertia shape"). The mesh, a uniform solid of mass M scaled to keep A + B + C, gives A, B, C."""
+        from . import mesh as meshes
+
+        if name in (None, "", meshes.INERTIA_SHAPE):
+            self.mesh = None
+            self.shape = self._shape(self.scenario)
+            self.scene_changed = True
+            return
+        path = meshes.asset_path(name)  # only names the assets folder holds: no path comes from a browser
+        body = meshes.scaled_to(meshes.load_mesh(path, self.scenario.body.M), self.scenario.body)
+        sc = meshes.with_mesh(self.scenario, body)
+        self.mesh = body
+        self._load(sc, f"mesh {name}")
 
     # ---- stepping ----------------------------------------------------------------------------
     def tick(self, wall_dt: float) -> Frame:
@@ -270,7 +325,18 @@ class Engine:
             self.history.extend(tr.table())
         for q in tr.quat:
             self.trail.extend(self._trail_point(q))
+        if self.show_polhode:
+            self.polhode.extend(self._polhode_points(tr.omega))
         self.plots_changed = True
+
+    def _polhode_points(self, omega: np.ndarray) -> np.ndarray:
+        """omega (n, 3, body components) scaled onto the drawn inertia ellipsoid w.J w = const: the
+        polhode (Poinsot). The ellipsoid's semi-axes are size/sqrt(I_k) times sqrt(min I)."""
+        b = self.scenario.body
+        J = np.array([b.A, b.B, b.C])
+        w = np.atleast_2d(omega)
+        n = np.sqrt(np.maximum(np.einsum("ij,j,ij->i", w, J, w), 1e-300))[:, None]
+        return w / n * (0.6 * self.shape.extent * math.sqrt(J.min()))
 
     def _trail_point(self, q: np.ndarray) -> np.ndarray:
         """Inertial view: the tip of the symmetry axis; body view: the direction of K in the body."""
@@ -294,8 +360,12 @@ class Engine:
         return K / n if n > 0 else E3
 
     def _compute_overlay(self) -> None:
-        """Start computing the cheaper fidelity's prediction from the present state, in a background
-        thread: a long prediction must not stall the frames. A newer request cancels an older one."""
+        """Start computing the cheaper fidelity's prediction in a background thread: a long prediction must
+        not stall the frames. A newer request cancels an older one.
+
+        Moving mass: the averaged model or the closed form from the present state (G and theta of now).
+        Spherical pendulum: its averaged model from t = 0 (it needs the pendulum's initial state).
+        Both pendulum systems, "closed": linear theory's envelope theta0 exp(-rate t) (MODELS B.4)."""
         if self._overlay_thread is not None and self._overlay_thread.is_alive():
             self._overlay_gen += 1  # cancel it; overlay_dirty stays set, so a later tick starts anew
             return
@@ -304,17 +374,24 @@ class Engine:
         self._overlay_gen += 1
         self.plots_changed = True
         fid = self.overlay_fidelity
-        if fid == "none" or self.scenario.system != "moving_mass":
+        if fid == "none":
             return
         sc = self.scenario
         t0 = self.run.t
+        horizon = max(OVERLAY_WINDOWS * self.plot_window(), 1.0)  # recomputed when the run passes its end
         try:
-            if t0 > 0:  # predict from the present state: G0 and theta0 of now
+            if sc.system != "moving_mass":
+                if fid == "closed":
+                    d = physics.derived(sc)
+                    t = np.linspace(0.0, t0 + horizon, OVERLAY_SAMPLES)
+                    self.overlay = (t, d["theta0"] * np.exp(-float(d["decay_rate_linear"]) * t))
+                    return
+                t0, horizon = 0.0, t0 + horizon
+            elif t0 > 0:  # predict from the present state: G0 and theta0 of now
                 sc = sc.with_values(**{"initial.G0": float(self.run.last.K[0]),
                                        "initial.theta0": float(self.run.last.theta[0])})
-            horizon = max(OVERLAY_WINDOWS * self.plot_window(), 1.0)  # recomputed when the run passes its end
             sc = sc.with_values(**{"run.t_end": horizon, "run.samples": OVERLAY_SAMPLES})
-        except physics.ScenarioError as exc:
+        except (physics.ScenarioError, ValueError) as exc:
             self.error = f"overlay ({fid}): {exc}"
             return
         gen = self._overlay_gen
@@ -397,6 +474,8 @@ class Engine:
             a = last.internal.get(f"a{i + 1}", [0.0])[0]
             fr.bobs.append(plane_bob(*pp.geometry(), pp.l, a))
         fr.trail = self.trail.values() * 0.9 * size  # the e3 arrow's tip draws it
+        if self.show_polhode:
+            fr.polhode = self.polhode.values()
         return fr
 
     def ellipsoid(self) -> np.ndarray:
@@ -434,16 +513,29 @@ class Engine:
         return d
 
     def badge(self) -> str:
-        """The averaged model's validity conditions and auto's choice, as markdown."""
+        """Auto's choice (model, method, error bound against the requested accuracy, and why) and the
+        averaged model's validity conditions, as markdown. Computed once per scenario."""
+        sc = self.scenario
+        if self._badge is not None and self._badge[0] is sc:
+            return self._badge[1]
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                fid, why = physics.choose_fidelity(self.scenario)
-                conds = physics.averaged_conditions(self.scenario) if self.scenario.system == "moving_mass" else []
-        except Exception as exc:  # a system whose conditions are not available yet
+                d = physics.derived(sc)
+                conds = physics.validity_conditions(sc)
+        except Exception as exc:  # never let the badge break a frame
             return f"auto: unavailable ({exc})"
+        head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
+        if conds:
+            head += f"  \naveraged model's conditions {'hold' if all(c.holds for c in conds) else 'fail'}:"
         lines = [f"{'OK' if c.holds else 'FAILS'}: {c}" for c in conds]
-        return f"**auto → {fid}**  \n" + "  \n".join(lines) + (f"  \n_{why}_" if not conds else "")
+        bound = d.get("auto_error_bound")
+        shown_bound = isinstance(bound, float) and bound > 0
+        lines.append(f"requested accuracy: {d.get('auto_accuracy', 'not set')}"
+                     + (f"; error bound of the choice {bound:.2g} rad" if shown_bound else ""))
+        text = head + "  \n" + "  \n".join(lines) + f"  \n_{d['auto_reason']}_"
+        self._badge = (sc, text)
+        return text
 
     def csv(self) -> bytes:
         buf = io.StringIO()

@@ -39,3 +39,44 @@ def moving_mass_rhs(p: np.ndarray):
         return np.concatenate([a, v, vdot, qdot, [(delta + mu * vn) * vn * vn, 0.0]])
 
     return f
+
+
+def spherical_pendulum_rhs(p: np.ndarray):
+    """f(t, y) of the full spherical-pendulum damper (MODELS.md B.2, one bob, Cardan angles) for solve_ivp;
+    p and the state (w, alpha, beta, alpha', beta', q, W_diss) as physics/compiled/pendulum.py.
+
+    Written as a user would: the mass matrix and the right side of the Lagrange equations assembled
+    with numpy from P = [e_j x r | dr/dq], solved with np.linalg.solve.
+    """
+    if p[0] != 0 or p[1] != 1:
+        raise ValueError("spherical_pendulum_rhs covers the spherical pendulum (one bob)")
+    M = p[2]
+    Ic = p[3:12].reshape(3, 3)
+    m, l, k, c = p[12], p[13], p[14], p[15]
+    pivot = p[16:19]
+    mu = m * (1.0 - m / M)  # the bob's reduced mass: the carrier's COM takes up its momentum
+
+    def f(t, y):
+        w, (a, b), qd, q = y[0:3], y[3:5], y[5:7], y[7:11]
+        sa, ca, sb, cb = np.sin(a), np.cos(a), np.sin(b), np.cos(b)
+        e = np.array([sb, -sa * cb, ca * cb])
+        J = l * np.array([[0.0, cb], [-ca * cb, sa * sb], [-sa * cb, -ca * sb]])  # dr/d(alpha, beta)
+        ad, bd = qd
+        Cq = l * (np.array([0.0, sa * cb, -ca * cb]) * ad * ad + 2.0 * np.array([0.0, ca * sb, sa * sb]) * ad * bd
+                  + np.array([-sb, sa * cb, -ca * cb]) * bd * bd)
+        r = pivot + l * e
+        rx = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+        P = np.hstack([-rx, J])  # v = P [w; q']
+        Jqd = J @ qd
+        bias = cross(w, cross(w, r)) + 2.0 * cross(w, Jqd) + Cq
+        Mm = mu * P.T @ P
+        Mm[0:3, 0:3] += Ic
+        rhs = -mu * P.T @ bias
+        rhs[0:3] -= cross(w, Ic @ w)
+        rhs[3:5] -= k * y[3:5] + c * qd
+        X = np.linalg.solve(Mm, rhs)
+        qw, qv = q[0], q[1:]
+        qdot = np.concatenate([[-0.5 * qv @ w], 0.5 * (qw * w + cross(qv, w))])
+        return np.concatenate([X[0:3], qd, X[3:5], qdot, [c * (qd @ qd)]])
+
+    return f

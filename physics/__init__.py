@@ -5,6 +5,7 @@ Headless (numpy, scipy, numba); never imports the app or viser. The public API:
     sc = physics.Scenario.load("assets/scenarios/oblate_settling.toml")
     tr = physics.simulate(sc)            # Trajectory: t, theta, K, E, omega, quat, internal
     physics.derived(sc)                  # F, D, L, H, P, Gamma1, ..., T, eps, Re, auto's choice
+    physics.sweep(sc, vary={"mass.chi": "1:20:5"}, metric="decay_time")   # SweepTable (docs/sweeps.md)
 """
 
 from . import closed
@@ -13,16 +14,22 @@ from .defaults import default_scenario
 from .derived import derived
 from .errors import IntegrationFault, ScenarioError, ValidityWarning
 from .live import LiveRun
+from .metrics import METRICS, Metric
 from .models import REGISTRY, Model, get_model
 from .params import Body, Cavity, Control, Initial, Mass, Medium, Run
 from .scenario import Scenario
 from .simulate import simulate
+from .sweep import SweepTable, axis_values, numeric_keys, point_scenario, resolve_key, sweep
 from .trajectory import Trajectory
 from .validity import averaged_conditions, choose_fidelity
+from .validity import conditions as validity_conditions
+from .work_precision import Row as WorkPrecisionRow
+from .work_precision import WorkPrecision, work_precision
 
 __all__ = [
     "Body", "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "LiveRun", "Mass", "Medium", "Model",
-    "REGISTRY", "Run", "Scenario", "ScenarioError", "Trajectory", "ValidityWarning", "averaged_conditions",
+    "METRICS", "Metric", "REGISTRY", "Run", "Scenario", "ScenarioError", "SweepTable", "Trajectory", "ValidityWarning",
+    "averaged_conditions", "axis_values", "numeric_keys", "point_scenario", "resolve_key", "sweep",
     "choose_fidelity", "closed", "coefficients", "default_scenario", "derived", "get_model", "initial_G",
-    "simulate",
+    "simulate", "validity_conditions", "WorkPrecision", "WorkPrecisionRow", "work_precision",
 ]

@@ -49,3 +49,40 @@ def choose_for_accuracy(sc: Scenario) -> tuple[str, str] | None:
     ok, why = closed_form_available(sc)
     fid = "closed" if ok else "averaged"
     return fid, f"averaged error bound {bound:.2g} rad <= requested accuracy {tol:g} rad; {why}"
+
+
+def _method_text(sc: Scenario, fidelity: str) -> str:
+    """The integrator ``simulate`` runs for this fidelity and [run] method, with its setting."""
+    run = sc.run
+    if fidelity == "closed":
+        return "closed form (no integrator)"
+    if run.method == "auto":
+        return f"DOP853 (compiled), rtol = {run.rtol:g}"
+    if run.method in ("RK4", "RK8", "midpoint"):
+        return f"{run.method} (compiled), dt = {run.dt:g} s"
+    return f"scipy {run.method}, rtol = {run.rtol:g}"
+
+
+def auto_choice(sc: Scenario) -> dict[str, float | str]:
+    """What fidelity ``auto`` runs for ``sc`` and why, as the keys of ``physics.derived``:
+
+    - auto_fidelity, auto_model (registry name), auto_method (integrator and its setting);
+    - auto_accuracy: the requested theta accuracy ``run.accuracy`` (rad), or "not set";
+    - averaged_error_bound: the averaged model's estimated max theta error against the full model
+      (rad, ``averaged_error_bound``; moving-mass scenarios with a mass only);
+    - auto_error_bound: that bound for the chosen model (0 when the full model is chosen: it is the
+      reference, with only the integrator's error, set by rtol);
+    - auto_reason: the chooser's sentence (conditions, or bound against the requested accuracy).
+    """
+    from .validity import choose_fidelity
+
+    fid, reason = choose_fidelity(sc)
+    out: dict[str, float | str] = dict(auto_fidelity=fid, auto_model=f"{sc.system}/{fid}",
+                                       auto_method=_method_text(sc, fid))
+    out["auto_accuracy"] = sc.run.accuracy if sc.run.accuracy is not None else "not set"
+    if sc.system == "moving_mass" and sc.mass is not None:
+        bound = averaged_error_bound(sc)
+        out["averaged_error_bound"] = bound
+        out["auto_error_bound"] = 0.0 if fid == "full" else bound
+    out["auto_reason"] = reason
+    return out

@@ -6,16 +6,21 @@ from __future__ import annotations
 
 import math
 
+from .accuracy import auto_choice
 from .coefficients import coefficients
 from .scenario import Scenario
-from .validity import choose_fidelity
 
 
 def derived(sc: Scenario) -> dict[str, float | str]:
+    """Derived quantities by name; the ``auto_*`` keys (physics/accuracy.py ``auto_choice``) say
+    which model and method fidelity ``auto`` runs, the requested accuracy, the estimated error
+    bound and the reason."""
     if sc.system != "moving_mass":  # the pendulum dampers of seed 002: their linear theory
         from .pendulum_linear_general import pendulum_derived
 
-        return pendulum_derived(sc)
+        out = pendulum_derived(sc)
+        out.update(auto_choice(sc))
+        return out
     from .closed import braking_time
 
     co = coefficients(sc)
@@ -26,7 +31,5 @@ def derived(sc: Scenario) -> dict[str, float | str]:
     out["theta0"] = co.theta0
     out["eps"] = co.omega0 / sc.mass.Omega if sc.mass else 0.0
     out["Re"] = sc.cavity.a0**2 * co.omega0 / sc.cavity.nu if sc.cavity else 0.0
-    fid, reason = choose_fidelity(sc)
-    out["auto_fidelity"] = fid
-    out["auto_reason"] = reason
+    out.update(auto_choice(sc))
     return out

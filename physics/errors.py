@@ -33,5 +33,7 @@ class IntegrationFault(RuntimeError):
 def _show(value: object) -> str:
     if isinstance(value, str) and value.startswith("("):
         return value  # a placeholder such as "(missing)", not a value the user typed
+    if isinstance(value, int) and value.bit_length() > 256:  # repr() refuses ints of more than 4300 digits
+        return f"(an integer of about {int(value.bit_length() * 0.30103) + 1} digits)"
     text = repr(value)
     return text if len(text) <= 80 else text[:77] + "..."

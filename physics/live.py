@@ -4,10 +4,14 @@
 compiled DOP853's step size. ``advance(dt)`` integrates [t, t + dt] and returns the rows reached as a
 Trajectory; the step size carries over, so pieces cost what one long run costs and agree with
 ``simulate`` to the integrator's tolerance. ``retune(scenario)`` swaps the parameters and keeps the
-state when the state layout allows it. The end of braking and integration faults are recorded in
-``status`` and ``message``, never raised: a viewer shows them and keeps the last good state.
+state when the state layout allows it. The end of braking and integration faults (a non-finite state,
+step-size underflow, the gimbal singularity, and a problem too stiff for the explicit integrator: a call
+that runs out of steps while they are held at the stability limit) are recorded in ``status`` and
+``message``, never raised: a viewer shows them and keeps the last good state.
 
 The closed fidelity has no state to step: its rows are evaluated from t = 0 at the times asked for.
+A scenario's ``run.method`` RK4, RK8 or midpoint (with ``run.dt``) steps with that compiled fixed-step
+method instead of DOP853, as ``simulate`` does.
 """
 
 from __future__ import annotations
@@ -18,16 +22,47 @@ from dataclasses import dataclass
 import numpy as np
 
 from .compiled import dispatch as kernels
-from .compiled import dop853
+from .compiled import dop853, fixed, midpoint
 from .errors import IntegrationFault, ScenarioError
 from .models.base import Model, get_model
+from .params import FIXED_STEP_METHODS
 from .scenario import Scenario
-from .simulate import ATOL_FACTOR
+from .simulate import ATOL_FACTOR, check_fixed_method
 from .trajectory import Trajectory
 from .validity import choose_fidelity
 
 RUNNING, BRAKED, FAULT = "running", "braked", "fault"
 MAX_STEPS_PER_CALL = 200_000  # bounds the wall time of one advance(); the rest waits for the next call
+# h |lambda| above which a step is held by stability, not accuracy: an 8th-order method resolving a mode
+# to rtol <= 1e-2 needs h |lambda| under 1; DOP853's stability region reaches about 6 on the real axis
+# and 4 on the imaginary one, where the step controller parks a stiff problem's step. The estimate
+# below reads up to a few times high (measured: 0.43 for an accuracy-held step, 19 for a stiff one).
+STIFF_H_LAMBDA = 3.0
+POWER_ITERATIONS = 30  # for the Jacobian's spectral radius (finite differences of the right-hand side)
+
+
+def spectral_radius(kernel: int, t: float, y: np.ndarray, p: np.ndarray) -> float:
+    """Largest |eigenvalue| of the right-hand side's Jacobian at (t, y), 1/s, by power iteration on
+    finite differences (2 evaluations per iteration). Used only when a call runs out of steps."""
+    y = np.ascontiguousarray(y, dtype=float)
+    f0, f1 = np.empty_like(y), np.empty_like(y)
+    kernels.rhs(kernel, t, y, p, f0)
+    v = np.random.default_rng(0).standard_normal(y.size)
+    v /= np.linalg.norm(v)
+    eps = 1e-7 * max(1.0, float(np.linalg.norm(y)))
+    radius, previous = 0.0, None
+    for _ in range(POWER_ITERATIONS):
+        kernels.rhs(kernel, t, y + eps * v, p, f1)
+        w = (f1 - f0) / eps
+        norm = float(np.linalg.norm(w))
+        if not math.isfinite(norm) or norm == 0.0:
+            break
+        # |J v| with |v| = 1 tends to the spectral radius for a real dominant eigenvalue; for an oscillator
+        # (u' = v, v' = -Omega^2 u) it alternates between Omega^2 and 1, whose geometric mean is Omega
+        radius = norm if previous is None else math.sqrt(norm * previous)
+        previous = norm
+        v = w / norm
+    return radius
 
 
 @dataclass(frozen=True)
@@ -94,6 +129,8 @@ class LiveRun:
             self.last = self._closed(np.array([0.0]))
             return
         self._set_params(scenario)
+        if scenario.run.method in FIXED_STEP_METHODS:
+            check_fixed_method(self.model, scenario, scenario.run.method, self.b, self.lam)
         self.y = np.asarray(self.model.initial_state(scenario, self.p), dtype=float).copy()
         self.atol = self.rtol * ATOL_FACTOR * max(1.0, float(np.max(np.abs(self.y))))
         self._G0_known = self.b > 0
@@ -115,6 +152,10 @@ class LiveRun:
         same state layout, ``keep_state``), False when it restarted from t = 0. Raises
         ScenarioError (before changing anything) when the scenario cannot run."""
         res = resolve(scenario, fidelity)
+        if scenario.run.method in FIXED_STEP_METHODS and res.model.solve is None:
+            check_fixed_method(res.model, scenario, scenario.run.method,
+                               float(scenario.control.b) if scenario.control else 0.0,
+                               float(scenario.medium.lambda_) if scenario.medium else 0.0)
         same = (keep_state and res.model is self.model and self.model.solve is None
                 and self.status != FAULT)
         if same:
@@ -149,19 +190,42 @@ class LiveRun:
         if self.model.solve is not None:
             return self._advance_closed(times)
         t_out = np.concatenate([[self.t], times])
-        Y, n, status, t_last, y_last, nfev, nsteps, h = dop853.integrate(
-            self.model.kernel, self.y, self.p, t_out, self.rtol, self.atol, self.b, self.lam,
-            MAX_STEPS_PER_CALL, self.h, self.G0)
+        method = self.scenario.run.method
+        if method in FIXED_STEP_METHODS:
+            dt_step = float(self.scenario.run.dt)
+            if method == "midpoint":
+                out = midpoint.integrate(np.ascontiguousarray(self.y), self.p, t_out, dt_step)
+            else:
+                out = fixed.run(fixed.TABLEAUS[method], self.model.kernel, self.y, self.p, t_out, dt_step, self.b,
+                                self.lam, self.G0)
+            Y, n, status, t_last, y_last, nfev, nsteps = out
+            h = dt_step
+            if status == midpoint.NO_CONVERGENCE and method == "midpoint":
+                status = dop853.MODEL_FAULT  # reported as a fault below, with the midpoint's own words
+                self.message = str(IntegrationFault(midpoint.STATUS_TEXT, float(t_last)))
+        else:
+            Y, n, status, t_last, y_last, nfev, nsteps, h = dop853.integrate(
+                self.model.kernel, self.y, self.p, t_out, self.rtol, self.atol, self.b, self.lam,
+                MAX_STEPS_PER_CALL, self.h, self.G0)
         self.nfev += int(nfev)
         self.nsteps += int(nsteps)
         rows_t, rows_y = t_out[1:n], Y[1:n]
         if status == dop853.OK:
             self.h = float(h)
         elif status == dop853.MAX_STEPS:
-            # out of budget for this call, not a fault: keep the progress and the step size
+            # out of budget for this call, not a fault: keep the progress and the step size, unless the
+            # step is held at the explicit method's stability limit (a stiff problem): that never ends
             self.h = float(h)
             if t_last > (rows_t[-1] if len(rows_t) else self.t):
                 rows_t, rows_y = np.append(rows_t, t_last), np.vstack([rows_y, y_last[None, :]])
+            h_lambda = self.h * spectral_radius(self.model.kernel, float(t_last), y_last, self.p)
+            if h_lambda > STIFF_H_LAMBDA:
+                self.status = FAULT
+                self.message = str(IntegrationFault(
+                    f"too stiff for the explicit integrator (DOP853): {int(nsteps)} steps covered "
+                    f"{float(t_last) - self.t:.3g} s, each held at the stability limit (h |lambda| = {h_lambda:.2g}, "
+                    "fastest mode faster than the motion); lower Omega or chi, or use the averaged fidelity",
+                    float(t_last)))
         else:
             if t_last > (rows_t[-1] if len(rows_t) else self.t):
                 rows_t, rows_y = np.append(rows_t, t_last), np.vstack([rows_y, y_last[None, :]])
@@ -170,7 +234,7 @@ class LiveRun:
                 self.message = f"{dop853.STATUS_TEXT[status]} at t = {t_last:.6g} s"
             else:
                 self.status = FAULT
-                self.message = str(IntegrationFault(dop853.STATUS_TEXT[status], float(t_last)))
+                self.message = self.message or str(IntegrationFault(dop853.STATUS_TEXT[status], float(t_last)))
         if not len(rows_t):
             return self._empty()
         good = np.all(np.isfinite(rows_y), axis=1)

@@ -22,7 +22,10 @@ MASS_STATES = ("rest", "quasistatic")
 def _number(key: str, value: object) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ScenarioError(key, value, "must be a number")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:  # an integer beyond the largest float
+        raise ScenarioError(key, value, "must be a finite number (at most 1.8e308 in size)") from None
     if not math.isfinite(x):
         raise ScenarioError(key, value, "must be a finite number")
     return x

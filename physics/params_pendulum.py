@@ -105,6 +105,7 @@ class PlanePendulum:
         object.__setattr__(self, "axis", _vector(f"{where}.axis", self.axis, nonzero=True))
         object.__setattr__(self, "arm", _vector(f"{where}.arm", self.arm, nonzero=True))
         n, e = np.array(self.axis), np.array(self.arm)
+        n, e = n / np.max(np.abs(n)), e / np.max(np.abs(e))  # scaled first: huge or tiny components stay finite
         cos = abs(n @ e) / (np.linalg.norm(n) * np.linalg.norm(e))
         if cos > 1e-9:
             raise ScenarioError(f"{where}.arm", self.arm, f"must be perpendicular to axis = {list(self.axis)} "

@@ -8,7 +8,9 @@ scenario survives a round trip bit for bit.
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
+import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,6 +24,7 @@ SECTIONS = {"body": Body, "mass": Mass, "pendulum": Pendulum, "plane_pendulum": 
 ARRAY_TABLES = {"plane_pendulum"}  # written [[plane_pendulum]], one table per pendulum
 FIELD = {"plane_pendulum": "plane_pendulums"}  # table name -> Scenario attribute where they differ
 
+BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")  # TOML's bare keys; others are shown quoted
 MAX_BYTES = 1_000_000  # a scenario is a few hundred bytes; a cap keeps uploads harmless
 
 
@@ -77,7 +80,7 @@ class Scenario:
         kwargs = {}
         for table, value in data.items():
             if table not in SECTIONS:
-                raise ScenarioError(str(table), "(table)", "unknown table; allowed: " + ", ".join(SECTIONS))
+                raise ScenarioError(_name(table), "(table)", "unknown table; allowed: " + ", ".join(SECTIONS))
             if table in ARRAY_TABLES:
                 if isinstance(value, dict):
                     value = [value]
@@ -95,11 +98,15 @@ class Scenario:
 
     @classmethod
     def from_toml(cls, text: str) -> Scenario:
+        if not isinstance(text, str):
+            raise ScenarioError("scenario", type(text).__name__, "must be TOML text (str)")
         if len(text) > MAX_BYTES:
             raise ScenarioError("scenario", f"{len(text)} bytes", f"must be at most {MAX_BYTES} bytes")
         try:
             data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
+        except RecursionError:  # arrays or inline tables nested thousands deep
+            raise ScenarioError("scenario", "(TOML)", "nests arrays or inline tables too deeply") from None
+        except ValueError as exc:  # TOMLDecodeError, and int() refusing a literal of more than 4300 digits
             raise ScenarioError("scenario", "(TOML)", f"is not valid TOML: {exc}") from None
         return cls.from_dict(data)
 
@@ -107,10 +114,14 @@ class Scenario:
     def load(cls, path: str | Path) -> Scenario:
         p = Path(path)
         try:
-            if p.stat().st_size > MAX_BYTES:
+            with p.open("rb") as f:  # read at most the cap: a device such as /dev/zero never ends
+                data = f.read(MAX_BYTES + 1)
+            if len(data) > MAX_BYTES:
                 raise ScenarioError("scenario", str(p), f"file must be at most {MAX_BYTES} bytes")
-            text = p.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
+            text = data.decode("utf-8")
+        except (OSError, UnicodeDecodeError, ValueError) as exc:  # ValueError: a path with a NUL byte
+            if isinstance(exc, ScenarioError):
+                raise
             why = getattr(exc, "strerror", None) or str(exc)
             raise ScenarioError("scenario", str(p), f"cannot be read ({why}); give the path of a TOML file") from None
         return cls.from_toml(text)
@@ -153,6 +164,12 @@ class Scenario:
         return Scenario.from_dict(data)
 
 
+def _name(key: object) -> str:
+    """A key as TOML writes it: bare when it can be, else quoted (an empty or multi-line key stays visible)."""
+    text = str(key)
+    return text if BARE_KEY.fullmatch(text) else json.dumps(text)
+
+
 def _toml_names(table: str) -> dict[str, str]:
     """TOML key -> dataclass field of one table."""
     fields = [f.name for f in dataclasses.fields(SECTIONS[table])]
@@ -177,7 +194,7 @@ def _build(table: str, values: dict, where: str | None = None):
     kwargs = {}
     for key, value in values.items():
         if key not in names:
-            raise ScenarioError(f"{where}.{key}", value, "unknown key; allowed: " + ", ".join(names))
+            raise ScenarioError(f"{where}.{_name(key)}", value, "unknown key; allowed: " + ", ".join(names))
         kwargs[names[key]] = value
     required = [k for k, f in names.items()
                 if next(x for x in dataclasses.fields(cls) if x.name == f).default is dataclasses.MISSING]

@@ -167,6 +167,20 @@ def _scipy(model, p, y0, t, method, rtol, atol, b):
                           t_stop=float(t_out[-1]))
 
 
+def check_fixed_method(model, sc, method: str, b: float, lam: float) -> None:
+    """Raise ScenarioError when the fixed-step ``method`` cannot run ``model`` on ``sc``: the implicit
+    midpoint covers only the full moving-mass model without cavity, medium or control."""
+    if method != "midpoint":
+        return
+    unsupported = [name for name, present in (("a cavity", sc.cavity is not None), ("a medium", lam > 0),
+                                              ("a control", b > 0)) if present]
+    if model.kernel != kernels.MASS_FULL or unsupported:
+        why = "the full moving-mass model" + (" without " + ", ".join(unsupported) if unsupported else "")
+        raise ScenarioError("run.method", "midpoint", f"covers only the full moving-mass model with no cavity, "
+                            f"medium or control (this run has {why if unsupported else model.name}); "
+                            'use "auto" or "RK8"')
+
+
 def _fixed(model, sc, p, y0, t, method, b, lam, progress):
     """The compiled fixed-step methods: RK4 and RK8 (physics/compiled/fixed.py) on any compiled
     model, and the structure-preserving implicit midpoint (physics/compiled/midpoint.py) on the full
@@ -174,14 +188,7 @@ def _fixed(model, sc, p, y0, t, method, b, lam, progress):
     dt = sc.run.dt
     if dt is None:
         raise ScenarioError("run.dt", None, f'is required by the fixed-step method "{method}" (the largest step, s)')
-    if method == "midpoint":
-        unsupported = [name for name, present in (("a cavity", sc.cavity is not None), ("a medium", lam > 0),
-                                                  ("a control", b > 0)) if present]
-        if model.kernel != kernels.MASS_FULL or unsupported:
-            why = "the full moving-mass model" + (" without " + ", ".join(unsupported) if unsupported else "")
-            raise ScenarioError("run.method", "midpoint", f"covers only the full moving-mass model with no cavity, "
-                                f"medium or control (this run has {why if unsupported else model.name}); "
-                                'use "auto" or "RK8"')
+    check_fixed_method(model, sc, method, b, lam)
     G0 = float(kernels.braking_norm(model.kernel, y0, p)) if b > 0 else 1.0
 
     def step(y, seg, steps_done):
@@ -192,6 +199,10 @@ def _fixed(model, sc, p, y0, t, method, b, lam, progress):
     Y, t_out, status, t_last, nfev, nsteps = _chunked(step, y0, t, progress)
     if status == midpoint.NO_CONVERGENCE:
         raise IntegrationFault(midpoint.STATUS_TEXT, float(t_last))
+    if status == dop853.NONFINITE:  # a fixed step beyond the method's stability limit, most likely
+        raise IntegrationFault(f"{method} with dt = {dt:g} s: state became non-finite (NaN or infinity); the step is "
+                               "beyond the method's stability limit for this problem (stiff): use a smaller run.dt "
+                               "or an adaptive method", float(t_last))
     _raise_on_fault(status, t_last)
     name = "implicit midpoint (compiled, structure-preserving)" if method == "midpoint" else f"{method} (compiled)"
     return Y, t_out, dict(method=name, nfev=int(nfev), steps=int(nsteps), dt=float(dt),

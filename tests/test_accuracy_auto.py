@@ -44,3 +44,61 @@ def test_chosen_model_meets_the_requested_accuracy(eps, C, theta0, tol):
     assert chosen.info["fidelity"] in ("averaged", "closed", "full")
     full = physics.simulate(sc.with_values(**{"run.fidelity": "full"}))
     assert np.max(np.abs(chosen.theta - full.theta)) <= tol, chosen.info["reason"]
+
+
+# ---- auto says why: physics.derived and `python -m physics info` ---------------------------------
+
+def test_derived_names_the_averaged_choice_its_bound_and_the_request():
+    from physics.accuracy import averaged_error_bound
+
+    sc = _with_accuracy(moving_mass(0.01, t_end=100.0))
+    d = physics.derived(sc)
+    assert d["auto_fidelity"] in ("averaged", "closed")
+    assert d["auto_model"] == f"moving_mass/{d['auto_fidelity']}"
+    assert d["auto_accuracy"] == TOL
+    assert d["auto_error_bound"] == d["averaged_error_bound"] == averaged_error_bound(sc)
+    assert 0 < d["auto_error_bound"] <= TOL
+    assert f"{TOL:g}" in d["auto_reason"] and "bound" in d["auto_reason"]
+
+
+def test_derived_names_the_full_choice_and_its_method():
+    sc = _with_accuracy(moving_mass(0.5, t_end=100.0, rtol=1e-9))
+    d = physics.derived(sc)
+    assert d["auto_fidelity"] == "full" and d["auto_model"] == "moving_mass/full"
+    assert d["auto_method"] == "DOP853 (compiled), rtol = 1e-09"
+    assert d["auto_error_bound"] == 0.0 and d["averaged_error_bound"] > TOL
+    rk8 = physics.derived(sc.with_values(**{"run.method": "RK8", "run.dt": 0.05}))
+    assert rk8["auto_method"] == "RK8 (compiled), dt = 0.05 s"
+
+
+def test_derived_without_a_requested_accuracy_says_so():
+    d = physics.derived(moving_mass(0.05, t_end=100.0))
+    assert d["auto_accuracy"] == "not set" and d["auto_error_bound"] > 0
+
+
+def test_pendulum_scenarios_name_model_and_method():
+    from bench.problems import p4
+
+    d = physics.derived(p4(1.0))
+    assert d["auto_model"] == f"spherical_pendulum/{d['auto_fidelity']}"
+    assert d["auto_method"].startswith("DOP853 (compiled)")
+
+
+def test_info_prints_model_method_accuracy_and_bound(tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    sc = _with_accuracy(moving_mass(0.05, t_end=100.0, rtol=1e-9), 1e-5)  # conditions hold, bound ~1e-3
+    path = tmp_path / "auto.toml"
+    path.write_text(sc.to_toml())
+    res = subprocess.run([sys.executable, "-m", "physics", "info", str(path)], capture_output=True, text=True,
+                         cwd=Path(__file__).resolve().parents[1], timeout=300)
+    assert res.returncode == 0, res.stderr
+    values = dict(line.split(" = ", 1) for line in res.stdout.splitlines())
+    assert values["auto_model"] == "moving_mass/full"
+    assert values["auto_method"] == "DOP853 (compiled), rtol = 1e-09"
+    assert float(values["auto_accuracy"]) == 1e-5
+    assert float(values["averaged_error_bound"]) == physics.derived(sc)["averaged_error_bound"] > 1e-5
+    assert float(values["auto_error_bound"]) == 0.0
+    assert "> requested accuracy 1e-05 rad" in values["auto_reason"]

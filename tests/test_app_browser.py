@@ -197,7 +197,7 @@ def test_choosing_a_preset_loads_it(page):
 
 
 def test_export_downloads_the_scenario_and_the_trajectory(page):
-    page.get_by_text("Export", exact=True).click()  # the folder starts collapsed
+    page.get_by_text("File", exact=True).click()  # the folder starts collapsed
     with page.expect_download() as info:
         click(page, "Download scenario (TOML)")
     text = Path(info.value.path()).read_text()
@@ -206,6 +206,23 @@ def test_export_downloads_the_scenario_and_the_trajectory(page):
         click(page, "Download trajectory (CSV)")
     lines = Path(info.value.path()).read_text().splitlines()
     assert lines[0].startswith("t,theta,K,E") and len(lines) >= 2  # paused at t = 0 by the tests above
+
+
+def test_uploading_a_scenario_file_loads_it_and_a_bad_one_is_refused(page, tmp_path):
+    good = ROOT / "assets" / "scenarios" / "oblate_settling.toml"
+    page.locator("input[type=file]").first.set_input_files(str(good))
+    wait_until(page, lambda: "upload oblate_settling.toml" in readouts(page), "the uploaded scenario")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[body]\nA = -1.0\nC = 1.0\nM = 1.0\n")
+    page.locator("input[type=file]").first.set_input_files(str(bad))
+    wait_until(page, lambda: page.get_by_text("Rejected:").count() > 0, "the rejection message")
+    assert "upload oblate_settling.toml" in readouts(page)  # the last good scene stays
+
+
+def test_the_sweep_panel_opens_on_demand(page):
+    page.get_by_text("Sweep", exact=True).click()
+    click(page, "Open the sweep panel")
+    page.get_by_role("button", name="Run sweep", exact=True).wait_for()
 
 
 def test_two_tabs_run_independent_simulations(page, browser, url):
@@ -221,7 +238,7 @@ def test_two_tabs_run_independent_simulations(page, browser, url):
         other.wait_for_timeout(1000)
         assert read(other, "t") != t_a  # the new tab runs
         assert read(page, "t") == frozen  # the first stays paused on its own preset
-        assert "Explorer 1" in readouts(page)
+        assert "upload oblate_settling.toml" in readouts(page)
         page.close()  # leave the CPU to the tab being photographed
         other.wait_for_timeout(2500)
         close = other.locator(".mantine-Notification-closeButton")

@@ -60,3 +60,47 @@ def test_the_engine_draws_a_mesh_until_a_preset_is_loaded(tmp_path):
     e.request("preset", "Explorer 1's flat spin")
     e.tick(1 / 60)
     assert e.mesh is None and e.shape.kind == "rod"
+
+
+def test_own_box_and_cylinder_meshes_are_closed_with_the_exact_volume():
+    from app.scene import box_mesh, cylinder_mesh
+
+    v, f = box_mesh((1.0, 2.0, 3.0))
+    box = trimesh.Trimesh(v, f, process=False)
+    assert box.is_watertight and box.is_winding_consistent and box.volume == pytest.approx(6.0, rel=1e-12)
+    n = 48
+    v, f = cylinder_mesh(0.5, 0.2, n)
+    cyl = trimesh.Trimesh(v, f, process=False)
+    polygon = 0.5 * n * 0.5**2 * np.sin(2 * np.pi / n)  # the inscribed n-gon's area
+    assert cyl.is_watertight and cyl.volume == pytest.approx(polygon * 0.2, rel=1e-12)  # positive: wound outward
+
+
+def test_the_satellite_asset_is_a_closed_prolate_body():
+    from app.mesh import asset_names, asset_path
+
+    assert "satellite.stl" in asset_names()
+    mesh = load_mesh(asset_path("satellite.stl"), 500.0)
+    A, B, C = mesh.moments
+    assert C < min(A, B)  # the wings' axis is e3, the smallest moment: it ends in a flat spin
+    assert A + B > C and B + C > A and A + C > B
+
+
+def test_the_engine_draws_an_asset_mesh_and_refuses_anything_else():
+    from app.mesh import scaled_to
+
+    e = Engine()
+    before = e.scenario.body
+    e.request("mesh", "satellite.stl")
+    e.tick(1 / 60)
+    b = e.scenario.body
+    assert e.error == "" and e.mesh is not None and e.shape.kind == "mesh"
+    assert b.A + b.B + b.C == pytest.approx(before.A + before.B + before.C, rel=1e-12)  # scaled_to keeps the sum
+    assert b.C < min(b.A, b.B)
+    assert scaled_to(e.mesh, b).moments == pytest.approx(e.mesh.moments, rel=1e-12)
+    for bad in ("../pyproject.toml", "/etc/passwd", "satellite.stl/.."):
+        e.request("mesh", bad)
+        e.tick(1 / 60)
+        assert "is not a mesh in assets/meshes" in e.error and e.scenario.body == b  # the last good state stays
+    e.request("mesh", "inertia shape")
+    e.tick(1 / 60)
+    assert e.mesh is None and e.shape.kind != "mesh"

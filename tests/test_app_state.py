@@ -220,3 +220,69 @@ def test_cli_rejects_a_bad_scenario_file(tmp_path, capsys):
     assert main(["--scenario", str(bad), "--port", "0"]) == 2
     assert "body.A" in capsys.readouterr().err
     assert main(["--scenario", str(tmp_path / "missing.toml"), "--port", "0"]) == 2
+
+
+def test_tune_to_resonance_shows_the_resolved_k_on_its_slider():
+    e = Engine(preset="Spherical pendulum damper, detuned")
+    assert e.values["pendulum.k"] == 0.05
+    e.request("tune")
+    e.tick(DT)
+    k = physics.derived(e.scenario)["k"]
+    assert e.error == "" and e.scenario.pendulum.k == "resonant"
+    assert e.values["pendulum.k"] == pytest.approx(k, rel=1e-12) and abs(k - 0.05) > 0.01
+    e.request_value("pendulum.c_d", 0.02)  # another pendulum change keeps the tuning and its shown k
+    e.tick(DT)
+    assert e.scenario.pendulum.k == "resonant" and e.values["pendulum.k"] == pytest.approx(k, rel=1e-12)
+
+
+def test_plane_pendulum_sliders_edit_one_bob_or_all():
+    e = Engine(preset="Plane pendulums (three, in the spin plane)")
+    ks = [p.k for p in e.scenario.plane_pendulums]
+    e.request("bob", 1)
+    e.tick(DT)
+    e.request_value("pendulum.k", 0.9)
+    e.tick(DT)
+    assert e.error == "" and [p.k for p in e.scenario.plane_pendulums] == [ks[0], 0.9, ks[2]]
+    assert e.values["pendulum.k"] == 0.9
+    e.request("bob", 0)
+    e.tick(DT)
+    assert e.values["pendulum.k"] == ks[0]  # the sliders show the chosen bob
+    e.request("bob", None)
+    e.tick(DT)
+    e.request_value("pendulum.k", 0.7)  # every bob, after the per-bob change: the latest move wins
+    e.tick(DT)
+    assert [p.k for p in e.scenario.plane_pendulums] == [0.7, 0.7, 0.7]
+    with pytest.raises(physics.ScenarioError, match="names no bob"):
+        controls.apply_changes(e.scenario, {"pendulum.k#7": 0.1})
+
+
+def test_the_polhode_lies_on_the_drawn_inertia_ellipsoid():
+    e = Engine(preset="Asymmetric body: intermediate-axis flip")
+    e.request("polhode", True)
+    fr = ticks(e, 600)  # 10 s: the flip carries omega across the ellipsoid
+    p = fr.polhode
+    b = e.scenario.body
+    J = np.array([b.A, b.B, b.C])
+    axes = e.ellipsoid()  # the drawn semi-axes: sum((p / axes)^2) = 1 on its surface
+    assert len(p) > 10
+    np.testing.assert_allclose(np.sum((p / axes) ** 2, axis=1), 1.0, rtol=1e-12)
+    assert np.ptp(p, axis=0).max() > axes.min()  # it travels across the ellipsoid
+    e.request("polhode", False)
+    assert ticks(e, 1).polhode is None
+
+
+def test_overlays_and_badge_for_the_pendulum_systems():
+    e = Engine(preset="Spherical pendulum damper, resonant")
+    assert "FAILS: " in e.badge() and "auto → full" in e.badge()  # its averaged conditions, listed
+    e.request("overlay", "averaged")
+    ticks(e, 2)
+    assert e.wait_overlay() and e.error == ""
+    t, theta, over, K, E = e.plot_data()
+    assert np.all(np.isfinite(over)) and np.any(over != theta)
+    e = Engine(preset="Taylor's damper: three plane pendulums (seed 002)")  # meridian pendulums: in-plane ones do not touch the nutation
+    e.request("overlay", "closed")
+    ticks(e, 2)
+    rate = physics.derived(e.scenario)["decay_rate_linear"]
+    ot, oth = e.overlay
+    assert rate > 0 and oth[-1] == pytest.approx(oth[0] * math.exp(-rate * ot[-1]), rel=1e-12)
+    assert "plane pendulums have only the full model" in e.badge()

@@ -33,6 +33,8 @@ def test_work_precision_quick(tmp_path):
     methods = {r["method"] for r in rows}
     assert {"scipy DOP853 (numpy rhs)", "MuJoCo RK4", "RK4 (compiled)", "RK8 (compiled)"} <= methods
     assert all(int(r["nfev"]) > 0 and float(r["wall_s"]) >= 0 for r in rows)
+    peers = {(r["problem"], r["method"]) for r in rows}
+    assert {("P2", "scipy DOP853 (numpy rhs)"), ("P4", "scipy DOP853 (numpy rhs)")} <= peers
     meta = json.loads((out / "work_precision.meta.json").read_text())
     assert meta["machine"]["numba"] and meta["command"] and meta["targets"]
     for name in ("work_precision_wall.png", "work_precision_nfev.png"):

@@ -141,3 +141,23 @@ def test_braking_switched_on_mid_run_ends_at_the_remaining_time():
         run.advance(5.0)
     assert run.status == BRAKED
     assert run.t == pytest.approx(1.0 + left, abs=TIME_TOL * left)
+
+
+@pytest.mark.parametrize("method", ["RK4", "RK8", "midpoint"])
+def test_a_fixed_step_method_runs_live_as_simulate_runs_it(method):
+    """run.method with run.dt steps the live run with that method: pieces land on simulate's states."""
+    sc = physics.default_scenario().with_values(**{"run.method": method, "run.dt": 0.01, "run.t_end": 2.0,
+                                                   "run.samples": 5, "run.fidelity": "full"})
+    ref = physics.simulate(sc)
+    run = physics.LiveRun(sc)
+    rows = [run.advance(0.5, samples=1) for _ in range(4)]
+    theta = np.array([r.theta[0] for r in rows])
+    assert run.status == "running" and run.nsteps == 200  # 2 s in steps of 0.01 s
+    np.testing.assert_allclose(theta, ref.theta[1:], rtol=0, atol=1e-12)
+
+
+def test_midpoint_refuses_what_it_does_not_cover_live():
+    sc = physics.default_scenario().with_values(**{"run.method": "midpoint", "run.dt": 0.01, "control.b": 0.01,
+                                                   "control.law": "K"})
+    with pytest.raises(physics.ScenarioError, match="midpoint"):
+        physics.LiveRun(sc)

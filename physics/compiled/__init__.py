@@ -4,6 +4,10 @@ numba invalidates a cached function only when its own file changes, not when a f
 changes: after an edit to a kernel or to dispatch.py, the cached integrator would keep calling the
 old code. So the cache of this package is keyed on all of its sources together: when any file here
 changes, every cached entry is dropped before numba loads it.
+
+The entry points Python calls on whole runs (the integrators' ``integrate`` and the observers) are
+compiled with ``nogil=True``: a simulation on a background thread then leaves the GIL to the
+threads that serve the app.
 """
 
 from __future__ import annotations

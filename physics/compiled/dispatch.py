@@ -17,6 +17,7 @@ MASS_FULL = 0
 MASS_AVERAGED = 1
 SPHERICAL_FULL = 2
 PLANE_FULL = 3
+MASS_AVERAGED_AXISYMMETRIC = 4  # the averaged model's slow (w_perp, w3) reduction, J*1 = J*2 only
 
 
 @njit(cache=True)
@@ -27,6 +28,8 @@ def rhs(model, t, y, p, out):
         averaged_kernel.rhs(t, y, p, out)
     elif model == SPHERICAL_FULL or model == PLANE_FULL:
         pendulum_kernel.rhs(t, y, p, out)
+    elif model == MASS_AVERAGED_AXISYMMETRIC:
+        averaged_kernel.rhs_axisymmetric(t, y, p, out)
 
 
 @njit(cache=True)
@@ -45,4 +48,6 @@ def braking_norm(model, y, p):
         return mass_full_kernel.braking_norm(y, p)
     if model == SPHERICAL_FULL or model == PLANE_FULL:
         return 1.0  # no braking law for the pendulum systems
+    if model == MASS_AVERAGED_AXISYMMETRIC:
+        return averaged_kernel.braking_norm_axisymmetric(y, p)
     return averaged_kernel.braking_norm(y, p)

@@ -43,7 +43,7 @@ STATUS_TEXT = {
 }
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps, h0, G0):
     """Integrate from t_out[0] and store the state at each t_out.
 

@@ -76,7 +76,7 @@ RK8 = ButcherTableau(
 TABLEAUS = {t.name: t for t in (RK4, RK8)}
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def integrate(model, y0, p, t_out, dt, A, Bw, C, b, lam, G0):
     """Fixed-step explicit RK with tableau (A, Bw, C), step at most ``dt`` (s), storing y at t_out.
 

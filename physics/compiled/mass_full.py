@@ -154,7 +154,7 @@ def rhs(t, y, p, out):
     out[14] = -(M1 * w1 + M2 * w2 + M3 * w3 + tcav)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def observe(Y, p):
     """Total K (n, 3, body frame) and energy E (n,) along a trajectory Y (n, 15)."""
     n = Y.shape[0]

@@ -156,7 +156,7 @@ def _to_state(z, q, W, p, y, wv):
     y[14] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def integrate(y0, p, t_out, dt):
     """Implicit midpoint, step at most ``dt`` (s), from the full model's state y0 (15,) with
     parameters p (15,), storing the state at t_out. Returns (Y, n_filled, status, t_last, y_last,

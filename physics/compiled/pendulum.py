@@ -318,7 +318,7 @@ def fault(y, p):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def observe(Y, p):
     """Total H (n, 3, body components, about O) and energy E (n,) along a trajectory Y (n, ny)."""
     n = Y.shape[0]

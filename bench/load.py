@@ -1,0 +1,254 @@
+"""Many websocket clients on one explorer server, and the server's memory while they watch.
+
+``python -m bench load --clients 10 --minutes 5`` serves the explorer in this process
+(``app.server.App`` on a free loopback port) and starts the clients in a child process, so the
+resident memory sampled here is the server's alone. Each client speaks viser's protocol only as far
+as a browser tab must to get a session: it connects to ``ws://127.0.0.1:PORT`` offering the
+subprotocol ``viser-v<version>`` (viser rejects other versions), sends the one message a browser sends
+first (its camera, ``ViewerCameraMessage``: viser counts a client as connected, and the app builds its
+session, only after it), then reads. Every websocket message
+the server sends is one window of updates (zstd-compressed msgpack, VISER_NOTES.md); the client
+decodes each and counts, per second, the windows that move the body (a ``SetOrientationMessage`` for the body frame),
+which is what a browser would redraw.
+
+Prints one JSON object (also written to ``bench/results/load.json``): per client the minimum and
+median updates per second over the measured seconds, and the server's RSS over time. The first
+``--warmup`` seconds (sessions starting, JIT caches loading) are not measured.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import ctypes
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+import warnings
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+TARGET_UPDATES_PER_S = 30.0  # issue 7: each client keeps receiving at least this many
+BODY_NODE = "/body"  # the session's body frame is /s<client id>/body (app/server.py)
+
+
+# ---- the client side (child process) ---------------------------------------------------------------
+def _moves_body(raw: bytes) -> bool:
+    """Whether one viser window (see viser.infra._infra._message_producer) updates a body frame's pose."""
+    import msgspec
+    import zstandard
+
+    size = int.from_bytes(raw[:8], "little")
+    clen = int.from_bytes(raw[8:16], "little")
+    inner = zstandard.ZstdDecompressor().decompress(raw[16:16 + clen], max_output_size=size)
+    for m in msgspec.msgpack.decode(inner)["messages"]:
+        if m.get("type") == "SetOrientationMessage" and str(m.get("name", "")).endswith(BODY_NODE):
+            return True
+    return False
+
+
+def _camera_message() -> bytes:
+    """What a browser sends on connecting: its camera (msgpack of the message's fields and its type)."""
+    import msgspec
+
+    return msgspec.msgpack.encode(dict(
+        type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9), fov=1.3, near=0.01,
+        far=1000.0, image_height=720, image_width=1280, look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
+
+
+async def _client(url: str, seconds: float, reconnect_every: float | None, counts: list[int],
+                  windows: list[int], errors: list[str]) -> None:
+    import viser
+    from websockets.asyncio.client import connect
+
+    start = time.perf_counter()
+    end = start + seconds
+    while time.perf_counter() < end:
+        stay = end if reconnect_every is None else min(end, time.perf_counter() + reconnect_every)
+        try:
+            async with connect(url, subprotocols=[f"viser-v{viser.__version__}"], max_size=None,
+                               compression=None, open_timeout=60) as ws:
+                await ws.send(_camera_message())
+                while (left := stay - time.perf_counter()) > 0:
+                    try:
+                        raw = await asyncio.wait_for(ws.recv(), timeout=left)
+                    except TimeoutError:
+                        break
+                    second = int(time.perf_counter() - start)
+                    while len(counts) <= second:
+                        counts.append(0)
+                        windows.append(0)
+                    windows[second] += 1
+                    if isinstance(raw, bytes) and _moves_body(raw):
+                        counts[second] += 1
+        except Exception as exc:  # recorded and reported: a client that cannot stay connected is a failure
+            errors.append(f"{type(exc).__name__}: {exc}")
+            await asyncio.sleep(0.5)
+
+
+async def _clients(url: str, n: int, seconds: float, reconnect_every: float | None) -> list[dict]:
+    results = [dict(counts=[], windows=[], errors=[]) for _ in range(n)]
+    # only the last client reconnects, so the others measure a steady tab's rate
+    await asyncio.gather(*(_client(url, seconds, reconnect_every if i == n - 1 else None, r["counts"],
+                                   r["windows"], r["errors"]) for i, r in enumerate(results)))
+    return results
+
+
+def client_main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(prog="python -m bench.load --client")
+    ap.add_argument("--client", required=True, help="websocket URL")
+    ap.add_argument("--clients", type=int, required=True)
+    ap.add_argument("--seconds", type=float, required=True)
+    ap.add_argument("--reconnect-every", type=float, default=None)
+    a = ap.parse_args(argv)
+    out = asyncio.run(_clients(a.client, a.clients, a.seconds, a.reconnect_every))
+    print(json.dumps(out))
+    return 0
+
+
+# ---- the server side (this process) ---------------------------------------------------------------
+def rss_bytes(pid: int | str = "self") -> int:
+    """Resident set size of a process, bytes (Linux /proc)."""
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) * 1024
+    raise RuntimeError("no VmRSS")
+
+
+def malloc_trim() -> None:
+    """Give the C allocator's free memory back to the system (glibc); a no-op elsewhere."""
+    try:
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
+
+
+def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_every: float | None = None,
+                    churn_every: float | None = None, sample_every: float = 1.0, trim: bool = False) -> dict:
+    """Serve the explorer, run ``clients`` websocket clients for ``seconds`` and return the figures.
+
+    ``churn_every`` (s): every so often one session loads the next preset (its scene is redrawn and its
+    run restarted), so a soak exercises the change paths and not only the steady loop. ``trim``: call
+    glibc's malloc_trim before each memory sample, which tells live memory (a leak) from freed memory the
+    allocator keeps."""
+    import physics
+    from app import presets
+    from app.server import App, warm_up
+
+    warm_up()
+    if churn_every:  # every system's kernels loaded once now, so their one-time cost is not counted as growth
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for name in presets.preset_names():
+                try:
+                    physics.LiveRun(presets.load_preset(name)).advance(0.01)
+                except Exception:  # a preset that does not run is the app's to report, not the soak's
+                    pass
+    app = App(host="127.0.0.1", port=0)
+    url = f"ws://127.0.0.1:{app.port}"
+    cmd = [sys.executable, "-m", "bench.load", "--client", url, "--clients", str(clients),
+           "--seconds", str(seconds)]
+    if reconnect_every:
+        cmd += ["--reconnect-every", str(reconnect_every)]
+    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    t0 = time.perf_counter()
+    rss: list[tuple[float, int]] = []
+    frames: list[tuple[float, int]] = []
+    frame_ms: dict[int, tuple[float, float]] = {}  # session -> median (tick, publish) wall ms, last seen
+    load: list[float] = []
+    names = presets.preset_names()
+    churned = 0
+    next_churn = warmup if churn_every else float("inf")
+    try:
+        while proc.poll() is None:
+            now = time.perf_counter() - t0
+            if trim:
+                malloc_trim()
+            rss.append((now, rss_bytes()))
+            frames.append((now, app.stats.get("frames", 0)))
+            load.append(os.getloadavg()[0])
+            for cid, session in list(app.sessions.items()):
+                recent = list(session.frame_ms)
+                if recent:
+                    frame_ms[cid] = tuple(statistics.median(x[i] for x in recent) for i in (0, 1))
+            if now >= next_churn and app.sessions:
+                session = next(iter(app.sessions.values()))
+                churned += 1
+                session.engine.request("preset", names[churned % len(names)])
+                next_churn += churn_every
+            time.sleep(sample_every)
+        out, err = proc.communicate()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        sessions_left = len(app.sessions)
+        app.close()
+    if proc.returncode != 0:
+        raise RuntimeError(f"the clients' process failed ({proc.returncode}): {err.strip()[-2000:]}")
+    per_client = json.loads(out)
+    res = summarize(per_client, rss, frames, seconds=seconds, warmup=warmup, clients=clients,
+                    churned=churned, sessions_left=sessions_left, reconnect_every=reconnect_every)
+    res["median_tick_ms"] = statistics.median(v[0] for v in frame_ms.values()) if frame_ms else None
+    res["median_publish_ms"] = statistics.median(v[1] for v in frame_ms.values()) if frame_ms else None
+    res["load_average_1min_median"] = statistics.median(load) if load else None  # other work on the machine
+    res["malloc_trim_before_samples"] = trim
+    return res
+
+
+def summarize(per_client, rss, frames, *, seconds, warmup, clients, churned, sessions_left, reconnect_every):
+    lo, hi = int(warmup), int(seconds) - 1  # whole seconds measured (the last one may be partial)
+    rates = []
+    for i, c in enumerate(per_client):
+        counts = (c["counts"] + [0] * int(seconds + 1))[lo:hi]
+        windows = (c["windows"] + [0] * int(seconds + 1))[lo:hi]
+        steady = reconnect_every is None or i < clients - 1
+        rates.append(dict(steady=steady, min_updates_per_s=min(counts) if counts else 0,
+                          median_updates_per_s=statistics.median(counts) if counts else 0,
+                          median_windows_per_s=statistics.median(windows) if windows else 0,
+                          seconds_at_target=sum(c >= TARGET_UPDATES_PER_S for c in counts) / max(1, len(counts)),
+                          errors=c["errors"][:5], n_errors=len(c["errors"])))
+    after = [(t, r) for t, r in rss if t >= warmup]
+    base = statistics.median(r for _, r in after[: max(3, len(after) // 10)]) if after else float("nan")
+    last = statistics.median(r for _, r in after[-max(3, len(after) // 10):]) if after else float("nan")
+    return dict(
+        clients=clients, seconds=seconds, warmup_s=warmup, churned_presets=churned, reconnect_every=reconnect_every,
+        steady_min_updates_per_s=min((r["min_updates_per_s"] for r in rates if r["steady"]), default=0),
+        clients_detail=rates,
+        rss_mb_after_warmup=base / 2**20, rss_mb_end=last / 2**20,
+        rss_mb_max=max(r for _, r in after) / 2**20 if after else float("nan"),
+        rss_growth=(last - base) / base if after else float("nan"),
+        rss_mb_series=[(round(t, 1), round(r / 2**20, 2)) for t, r in rss[:: max(1, len(rss) // 120)]],
+        server_frames=frames[-1][1] if frames else 0, sessions_left_at_end=sessions_left,
+        machine=dict(python=platform.python_version(), cpus=os.cpu_count(), platform=platform.platform()),
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m bench load", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--clients", type=int, default=10)
+    ap.add_argument("--minutes", type=float, default=5.0)
+    ap.add_argument("--warmup", type=float, default=15.0, help="seconds not measured at the start")
+    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "load.json")
+    a = ap.parse_args(argv)
+    res = serve_and_watch(a.clients, 60.0 * a.minutes, warmup=a.warmup)
+    res["command"] = "python -m bench load " + " ".join(argv if argv is not None else sys.argv[1:])
+    a.out.parent.mkdir(parents=True, exist_ok=True)
+    a.out.write_text(json.dumps(res, indent=1))
+    print(json.dumps({k: v for k, v in res.items() if k not in ("rss_mb_series", "clients_detail")}))
+    ok = res["steady_min_updates_per_s"] >= TARGET_UPDATES_PER_S
+    print(f"load: {a.clients} clients, {a.minutes:g} min: slowest client's worst second "
+          f"{res['steady_min_updates_per_s']} updates/s (target >= {TARGET_UPDATES_PER_S:g}); server RSS "
+          f"{res['rss_mb_after_warmup']:.1f} -> {res['rss_mb_end']:.1f} MB ({100 * res['rss_growth']:+.2f} %)")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    argv = sys.argv[1:]
+    if "--client" in argv:
+        raise SystemExit(client_main(argv))
+    raise SystemExit(main(argv))

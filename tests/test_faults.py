@@ -1,0 +1,180 @@
+"""Numerical faults (issue 7): each is detected and the run stops cleanly with a message that says what
+happened and at what time, through ``physics.simulate`` (raises IntegrationFault; braking ends the run
+normally) and through ``physics.LiveRun`` (status and message, never raised; the last good state kept),
+and in the app's Engine, which pauses on them and shows the message.
+
+Every scenario here is valid input: the faults come from the numbers, not from tampering.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+import physics
+from physics import IntegrationFault, LiveRun, Scenario
+from physics.closed import braking_time
+from physics.live import BRAKED, FAULT, RUNNING
+
+TIME_TOL = 1e-6  # relative, on the braking time T
+
+
+def _mass(**changes) -> dict:
+    d = {"body": {"A": 1.0, "C": 1.4, "M": 1.0}, "mass": {"m": 0.2, "rho": 1.5, "Omega": 5.0, "chi": 5.0},
+         "initial": {"G0": 3.0, "theta0": 0.8}, "run": {"fidelity": "full", "t_end": 10.0, "samples": 11}}
+    for path, value in changes.items():
+        table, _, key = path.partition("__")
+        d.setdefault(table, {})[key] = value
+    return d
+
+
+BLOW_UP = _mass()
+BLOW_UP["initial"] = {"omega": [1e160, 0.0, 1e160]}  # finite input whose energy overflows to inf
+UNDERFLOW = _mass(mass__chi=1e16)  # a damping rate so fast that the stable step is under 1e-14 s
+STIFF_LIVE = _mass(mass__Omega=1e7, mass__chi=1e7)  # stable steps of 3e-7 s against a motion of seconds
+GIMBAL = {"body": {"A": 1.0, "C": 1.4, "M": 1.0},  # a bob above its pivot with no spring: it falls over
+          "pendulum": {"m": 0.05, "l": 0.3, "h": 0.2, "k": 0.0, "c_d": 0.001},
+          "initial": {"G0": 2.0, "theta0": 0.1}, "run": {"fidelity": "full", "t_end": 30.0, "samples": 31}}
+BRAKING = _mass(control__b=0.3)  # T = G0 / b = 10 s (no medium)
+
+
+def _at(message: str) -> float:
+    """The time a message reports, 'at t = <number>'."""
+    m = re.search(r"at t = ([-+0-9.eE]+)", message)
+    assert m, message
+    return float(m.group(1))
+
+
+def _live_until_stopped(sc: Scenario, dt: float = 1.0, calls: int = 60) -> tuple[LiveRun, list]:
+    run = LiveRun(sc)
+    pieces = []
+    for _ in range(calls):
+        pieces.append(run.advance(dt, samples=4))
+        if run.ended:
+            break
+    return run, pieces
+
+
+def _assert_stopped_cleanly(run: LiveRun) -> None:
+    assert np.all(np.isfinite(run.y)) and np.all(np.isfinite(run.last.theta))
+    t, last = run.t, run.last
+    assert len(run.advance(1.0)) == 0 and run.t == t and run.last is last  # stays stopped, no exception
+    run.reset()
+    assert run.status == RUNNING and run.t == 0.0
+
+
+# ---- blow-up to NaN or infinity ---------------------------------------------------------------------
+def test_blow_up_through_simulate():
+    with pytest.raises(IntegrationFault, match=r"non-finite \(NaN or infinity\) at t = 0$") as info:
+        physics.simulate(Scenario.from_dict(BLOW_UP))
+    assert info.value.t == 0.0
+
+
+def test_blow_up_through_live_run():
+    run, _ = _live_until_stopped(Scenario.from_dict(BLOW_UP))
+    assert run.status == FAULT and "non-finite" in run.message and _at(run.message) == 0.0
+    _assert_stopped_cleanly(run)
+
+
+# ---- step-size underflow -----------------------------------------------------------------------------
+def test_step_size_underflow_through_simulate():
+    with pytest.raises(IntegrationFault, match="step size underflow at t = ") as info:
+        physics.simulate(Scenario.from_dict(UNDERFLOW))
+    assert info.value.t == _at(str(info.value)) and 0.0 <= info.value.t < 1e-6
+
+
+def test_step_size_underflow_through_live_run():
+    run, _ = _live_until_stopped(Scenario.from_dict(UNDERFLOW))
+    assert run.status == FAULT and "step size underflow" in run.message
+    assert _at(run.message) == pytest.approx(run.t, abs=1e-12)
+    _assert_stopped_cleanly(run)
+
+
+# ---- stiffness beyond the chosen method -----------------------------------------------------------------
+def test_fixed_step_beyond_its_stability_limit_blows_up_through_simulate():
+    stiff = _mass(mass__Omega=50.0, mass__chi=5.0, run__method="RK4", run__dt=0.5)
+    with pytest.raises(IntegrationFault, match=r"non-finite .* at t = ") as info:
+        physics.simulate(Scenario.from_dict(stiff))
+    assert 0.0 < info.value.t < 10.0  # mid-run, at the step where it overflowed
+    assert info.value.t / 0.5 == pytest.approx(round(info.value.t / 0.5))  # a whole number of steps
+    # the same problem at a step inside RK4's stability region runs to the end
+    ok = physics.simulate(Scenario.from_dict(_mass(mass__Omega=50.0, mass__chi=5.0, run__method="RK4",
+                                                   run__dt=0.005)))
+    assert ok.info["stop_reason"] == "reached t_end" and np.all(np.isfinite(ok.theta))
+
+
+def test_too_stiff_for_the_explicit_integrator_through_live_run():
+    run = LiveRun(Scenario.from_dict(STIFF_LIVE))
+    run.advance(1.0)  # more than one call's step budget: every step is held at the stability limit
+    assert run.status == FAULT and "too stiff for the explicit integrator" in run.message
+    assert "h |lambda|" in run.message and _at(run.message) == pytest.approx(run.t, rel=1e-15) and run.t > 0
+    _assert_stopped_cleanly(run)
+
+
+def test_an_accuracy_bound_fast_problem_is_not_called_stiff():
+    """Fast but undamped (chi = 0): the steps resolve the oscillation, so running out of one call's
+    budget is slow progress, not a fault."""
+    run = LiveRun(Scenario.from_dict(_mass(mass__Omega=1e7, mass__chi=0.0)))
+    run.advance(1.0)
+    assert run.status == RUNNING and 0 < run.t < 1.0
+
+
+# ---- the end of braking (|G| -> 0) ---------------------------------------------------------------------
+def test_end_of_braking_through_simulate():
+    sc = Scenario.from_dict(BRAKING)
+    T = braking_time(3.0, 0.3, 0.0)
+    tr = physics.simulate(sc)
+    assert tr.info["stop_reason"] == "braking brought |G| to zero"
+    assert tr.info["t_stop"] == pytest.approx(T, rel=TIME_TOL) and tr.t[-1] == tr.info["t_stop"]
+
+
+def test_end_of_braking_through_live_run():
+    run, _ = _live_until_stopped(Scenario.from_dict(BRAKING))
+    T = braking_time(3.0, 0.3, 0.0)
+    assert run.status == BRAKED and "braking brought |G| to zero" in run.message
+    assert _at(run.message) == pytest.approx(T, rel=TIME_TOL) and run.t == pytest.approx(T, rel=TIME_TOL)
+    _assert_stopped_cleanly(run)
+
+
+# ---- the gimbal singularity ------------------------------------------------------------------------------
+def test_gimbal_singularity_through_simulate():
+    with pytest.raises(IntegrationFault, match=r"gimbal singularity \(\|beta\| -> 90 deg\) at t = ") as info:
+        physics.simulate(Scenario.from_dict(GIMBAL))
+    assert 1.0 < info.value.t < 30.0
+
+
+def test_gimbal_singularity_through_live_run():
+    run, _ = _live_until_stopped(Scenario.from_dict(GIMBAL))
+    assert run.status == FAULT and "gimbal singularity" in run.message
+    ref = None
+    try:
+        physics.simulate(Scenario.from_dict(GIMBAL))
+    except IntegrationFault as exc:
+        ref = exc.t
+    assert _at(run.message) == pytest.approx(ref, rel=1e-5)  # where simulate stops, to the tolerance
+    _assert_stopped_cleanly(run)
+
+
+# ---- the app: the tab pauses on a fault, keeps the last good state and says why --------------------------
+@pytest.mark.parametrize("data, needle", [(GIMBAL, "gimbal singularity"), (BLOW_UP, "non-finite"),
+                                          (STIFF_LIVE, "too stiff"), (BRAKING, "braking brought")])
+def test_the_app_engine_stops_and_shows_why(data, needle):
+    from app.state import Engine
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        eng = Engine(Scenario.from_dict(data))
+    eng.warp = 10.0
+    for _ in range(400):
+        fr = eng.tick(0.1)
+        if fr.status != RUNNING:
+            break
+    assert fr.status in (FAULT, BRAKED) and needle in fr.message and "at t = " in fr.message
+    assert math.isfinite(fr.theta) and np.all(np.isfinite(fr.body_wxyz))
+    t = fr.t
+    assert eng.tick(0.1).t == t  # stays where it stopped
+    assert Scenario.from_toml(eng.toml().decode()) == eng.scenario  # and the scenario can still be exported

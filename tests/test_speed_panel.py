@@ -1,0 +1,129 @@
+"""The explorer's "speed vs accuracy" panel, headless: a fake gui records the widgets; the sweep is
+physics.work_precision for real on a short scene, or a stand-in where a failure is the point."""
+
+from __future__ import annotations
+
+import pytest
+
+import physics
+from bench.problems import moving_mass
+
+pytest.importorskip("plotly")
+from app.speed_panel import NOTHING_YET, SpeedPanel, figure  # noqa: E402
+
+ACCURACY = 1e-6  # rad, the scene's requested theta accuracy
+JOIN_S = 120.0  # the sweep thread must end well within this
+
+
+class Handle:
+    """Just enough of a viser handle: value, label, flags, content, figure and click callbacks."""
+
+    def __init__(self, kind, label=None, value=None, **kw):
+        self.kind, self.label, self.value = kind, label, value
+        self.disabled = kw.pop("disabled", False)
+        self.content = kw.pop("content", "")
+        self.figure = kw.pop("figure", None)
+        self.callbacks = []
+
+    def on_click(self, cb):
+        self.callbacks.append(cb)
+
+    def fire(self):
+        for cb in self.callbacks:
+            cb(None)
+
+
+class FakeGui:
+    def __init__(self):
+        self.handles = []
+
+    def _add(self, h):
+        self.handles.append(h)
+        return h
+
+    def add_markdown(self, content, **kw):
+        return self._add(Handle("markdown", content=content))
+
+    def add_button(self, label, **kw):
+        return self._add(Handle("button", label, disabled=kw.get("disabled", False)))
+
+    def add_progress_bar(self, value, **kw):
+        return self._add(Handle("progress", value=value))
+
+    def add_plotly(self, figure, **kw):
+        return self._add(Handle("plotly", figure=figure))
+
+    def button(self, prefix):
+        return next(h for h in self.handles if h.kind == "button" and h.label.startswith(prefix))
+
+
+def _scene():
+    return moving_mass(0.1, t_end=100.0, samples=101).with_values(**{"run.accuracy": ACCURACY})
+
+
+def test_sweep_runs_in_the_background_and_the_recommendation_is_applied():
+    gui, applied = FakeGui(), []
+    scene = _scene()
+    panel = SpeedPanel(gui, lambda: scene, applied.append)
+    use = gui.button("Use recommended")
+    assert use.disabled and use.label == NOTHING_YET
+    gui.button("Run speed vs accuracy sweep").fire()
+    panel.thread.join(JOIN_S)
+    assert not panel.thread.is_alive() and panel.thread.daemon
+    best = panel.result.recommended
+    assert best is not None and best.error <= ACCURACY
+    assert panel.bar.value == 100.0
+    assert not use.disabled and use.label.startswith("Use recommended: ")
+    assert "Recommended" in panel.status.content
+    traces = {t.name for t in panel.plot.figure.data}
+    assert {"DOP853 (compiled, adaptive)", "RK4 (compiled)", "RK8 (compiled)", "recommended"} <= traces
+    assert panel.plot.figure.layout.xaxis.type == "log" and panel.plot.figure.layout.yaxis.type == "log"
+    use.fire()
+    assert len(applied) == 1
+    sc = applied[0]
+    assert sc.run.method == best.method
+    assert (sc.run.rtol if best.method == "auto" else sc.run.dt) == pytest.approx(best.setting)
+    assert sc.run.t_end == scene.run.t_end and sc.mass == scene.mass  # only the run settings changed
+
+
+def test_a_failing_sweep_is_a_message_not_an_exception():
+    gui, applied = FakeGui(), []
+
+    def broken(sc, progress=None, cancel=None):
+        progress(0.5)
+        raise RuntimeError("kernel exploded")
+
+    panel = SpeedPanel(gui, _scene, applied.append, sweep=broken)
+    panel.start().join(JOIN_S)
+    assert "Sweep failed" in panel.status.content and "kernel exploded" in panel.status.content
+    assert gui.button("Use recommended").disabled and not gui.button("Run speed").disabled
+    panel.use_recommended()  # nothing to use: says so, applies nothing
+    assert applied == [] and "no recommendation" in panel.status.content
+
+
+def test_recommendation_is_refused_after_the_scene_changed_system():
+    from bench.problems import p4
+
+    gui, applied = FakeGui(), []
+    scenes = [_scene()]
+    panel = SpeedPanel(gui, lambda: scenes[-1], applied.append)
+    panel.start().join(JOIN_S)
+    scenes.append(p4(10.0))
+    assert panel.use_recommended() is None and applied == []
+    assert "changed since the sweep" in panel.status.content
+
+
+def test_empty_figure_has_log_axes():
+    fig = figure(None)
+    assert not fig.data and fig.layout.xaxis.type == "log"
+
+
+def test_panel_module_uses_only_physics_exports():
+    import ast
+    from pathlib import Path
+
+    src = (Path(__file__).resolve().parents[1] / "app" / "speed_panel.py").read_text()
+    for node in ast.walk(ast.parse(src)):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            assert not node.module.startswith("physics."), node.module
+    assert hasattr(physics, "WorkPrecision") and hasattr(physics, "WorkPrecisionRow")

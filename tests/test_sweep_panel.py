@@ -1,0 +1,155 @@
+"""The explorer's sweep panel, headless: a fake gui records the widgets, the sweep runs for real."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+import physics
+
+pytest.importorskip("plotly")
+from app import sweep_panel  # noqa: E402
+from app.sweep_panel import NONE, SweepPanel  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+class Handle:
+    """Just enough of a viser handle: a value, options, flags and callbacks fired by the test."""
+
+    def __init__(self, kind, label=None, value=None, **kw):
+        self.kind, self.label, self.value = kind, label, value
+        self.options = tuple(kw.pop("options", ()))
+        self.disabled = kw.pop("disabled", False)
+        self.visible = True
+        self.content = kw.pop("content", "")
+        self.figure = kw.pop("figure", None)
+        self.callbacks = []
+
+    def on_update(self, cb):
+        self.callbacks.append(cb)
+
+    on_click = on_update
+
+    def fire(self):
+        for cb in self.callbacks:
+            cb(None)
+
+
+class FakeGui:
+    def __init__(self):
+        self.handles = []
+
+    def _add(self, h):
+        self.handles.append(h)
+        return h
+
+    def add_markdown(self, content, **kw):
+        return self._add(Handle("markdown", content=content))
+
+    def add_dropdown(self, label, options, initial_value=None, **kw):
+        return self._add(Handle("dropdown", label, initial_value, options=options))
+
+    def add_number(self, label, initial_value, **kw):
+        return self._add(Handle("number", label, initial_value))
+
+    def add_checkbox(self, label, initial_value, **kw):
+        return self._add(Handle("checkbox", label, initial_value))
+
+    def add_button(self, label, **kw):
+        return self._add(Handle("button", label, disabled=kw.get("disabled", False)))
+
+    def add_progress_bar(self, value, **kw):
+        return self._add(Handle("progress", value=value))
+
+    def add_plotly(self, figure, **kw):
+        return self._add(Handle("plotly", figure=figure))
+
+
+def _scene() -> physics.Scenario:
+    sc = physics.Scenario.load(ROOT / "assets" / "scenarios" / "pendulum_resonant.toml")
+    return sc.with_values(**{"run.t_end": 12.0, "run.samples": 121})
+
+
+def test_panel_offers_the_systems_sliders_only():
+    sc = _scene()
+    keys = sweep_panel.sweepable(sc)
+    assert "pendulum.k" in keys and "pendulum.c_d" in keys and "mass.chi" not in keys
+    plane = physics.Scenario.load(ROOT / "assets" / "scenarios" / "plane_pendulums_three.toml")
+    assert "pendulum.h" not in sweep_panel.sweepable(plane)  # the spherical pendulum's pivot only
+    mass = physics.Scenario.load(ROOT / "assets" / "scenarios" / "oblate_settling.toml")
+    assert {"mass.chi", "medium.lambda", "control.b"} <= set(sweep_panel.sweepable(mass))
+    assert "cavity.nu" not in sweep_panel.sweepable(mass)  # no cavity in that file
+
+
+def test_panel_runs_a_heat_map_and_loads_the_best_point():
+    sc = _scene()
+    loaded = []
+    gui = FakeGui()
+    panel = SweepPanel(gui, lambda: sc, loaded.append, executor="serial")
+    assert {h.kind for h in gui.handles} >= {"dropdown", "number", "button", "progress", "plotly"}
+    panel.key1.value = "pendulum.k"
+    panel.key1.fire()  # k = "resonant" in the file: the range is around the stiffness it tunes to
+    k = physics.derived(sc)["k"]
+    assert (panel.lo1.value, panel.hi1.value) == (float(f"{k / 2:.4g}"), float(f"{2 * k:.4g}"))
+    panel.key1.value = "pendulum.c_d"
+    panel.key1.fire()  # the range follows the parameter: around the scene's c_d = 8
+    assert (panel.lo1.value, panel.hi1.value) == (4.0, 16.0)
+    panel.n1.value = 3
+    panel.key2.value = "pendulum.m"
+    panel.key2.fire()
+    panel.n2.value = 2
+    panel.metric.value = "decay_time"
+    panel.run_btn.fire()
+    panel.thread.join(timeout=60)
+    assert not panel.thread.is_alive()
+    assert panel.bar.value == 100.0 and not panel.run_btn.disabled
+    table = panel.table
+    assert table.keys == ("pendulum.c_d", "pendulum.m") and table.shape == (3, 2)
+    heat = panel.plot.figure.data[0]
+    assert heat.type == "heatmap" and len(heat.z) == 3 and len(heat.z[0]) == 2
+    # the dropdown lists the points best first; loading hands that scenario to the scene
+    values = [table.rows[i]["decay_time"] for i in panel._points.values()]
+    assert values == sorted(values) and panel.point.value == panel.point.options[0]
+    panel.load_btn.fire()
+    best = min(table.rows, key=lambda r: r["decay_time"])
+    assert len(loaded) == 1
+    assert loaded[0].pendulum.c_d == best["pendulum.c_d"] and loaded[0].pendulum.m == best["pendulum.m"]
+
+
+def test_panel_reports_errors_instead_of_raising():
+    sc = _scene()
+    gui = FakeGui()
+    panel = SweepPanel(gui, lambda: sc, lambda s: None, executor="serial")
+    panel.key1.value = "pendulum.k"
+    panel.key2.value = "pendulum.k"
+    panel.run_btn.fire()  # the same slider twice
+    assert panel.thread is None and "Cannot start" in panel.status.content
+    panel.key2.value = NONE
+    panel.log1.value, panel.lo1.value = True, -1.0  # log spacing from a negative value
+    panel.run_btn.fire()
+    assert panel.thread is None and "LO > 0" in panel.status.content
+    panel.load_btn.fire()  # nothing computed yet
+    assert "Run a sweep first" in panel.status.content
+
+    def broken():
+        raise RuntimeError("scene gone")
+
+    panel.get_scenario = broken
+    panel.run_btn.fire()
+    assert "scene gone" in panel.status.content
+
+
+def test_panel_one_parameter_draws_a_curve_on_worker_processes():
+    sc = _scene()
+    gui = FakeGui()
+    panel = SweepPanel(gui, lambda: sc, lambda s: None, workers=1)  # the default: local worker processes
+    panel.key1.value = "pendulum.c_d"
+    panel.key1.fire()
+    panel.n1.value = 2
+    panel.start().join(timeout=120)
+    curve = panel.plot.figure.data[0]
+    assert curve.type == "scatter" and len(curve.x) == 2
+    assert all(math.isfinite(v) for v in curve.y) and "2 points" in panel.status.content
