@@ -1,0 +1,154 @@
+"""Bad input in a real browser (issue 7): every slider dragged to both ends and to random values, well
+over 100 changes in quick succession; every preset; every system and fidelity. The server must raise
+no uncaught exception (nothing like a traceback in its output), the page must stay connected (the
+simulation keeps publishing), and an invalid combination must show its message.
+"""
+
+from __future__ import annotations
+
+import queue
+import random
+import re
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+from test_app_browser import (
+    CHROMIUM,
+    FLAGS,
+    ROOT,
+    START_TIMEOUT,
+    UI_TIMEOUT,
+    choose,
+    click,
+    read,
+    readouts,
+    set_slider,
+    sync_api,
+    wait_until,
+)
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+RANDOM_CHANGES = 120
+SLIDERS_JS = """() => Array.from(document.querySelectorAll('[role=slider]')).map(s => {
+    return [s.getAttribute('aria-valuemin'), s.getAttribute('aria-valuemax'),
+            s.closest('[id]') ? s.closest('[id]').id : ''];
+})"""
+
+
+@pytest.fixture(scope="module")
+def server():
+    proc = subprocess.Popen([sys.executable, "-u", "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    lines: queue.Queue = queue.Queue()
+    log: list[str] = []
+
+    def pump():
+        for line in proc.stdout:
+            log.append(line)
+            lines.put(line)
+
+    threading.Thread(target=pump, daemon=True).start()
+    deadline = time.monotonic() + START_TIMEOUT
+    url = None
+    while url is None and time.monotonic() < deadline and proc.poll() is None:
+        try:
+            m = re.search(r"ready in .*: (http://\S+)", lines.get(timeout=1.0))
+        except queue.Empty:
+            continue
+        url = m.group(1) if m else None
+    if url is None:
+        proc.kill()
+        pytest.fail("the explorer did not start:\n" + "".join(log))
+    yield url, proc, log
+    proc.terminate()
+    proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def page(server):
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        pg = browser.new_page(viewport={"width": 900, "height": 700})  # software WebGL: fewer pixels, quicker
+        pg.set_default_timeout(UI_TIMEOUT)
+        pg.goto(server[0])
+        wait_until(pg, lambda: read(pg, "fidelity"), "the first readouts")
+        click(pg, "Pause")  # a still scene costs the software renderer little: the storm runs quicker
+        yield pg
+        browser.close()
+
+
+def _number_boxes(page):
+    """(min, max, number input) of every slider the panel shows now."""
+    boxes = []
+    for lo, hi, wrapper in page.evaluate(SLIDERS_JS):
+        if not wrapper:
+            continue
+        box = page.locator(f'[id="{wrapper}"]').locator("xpath=..").locator("input.mantine-NumberInput-input")
+        if box.count() == 1 and box.is_visible():
+            boxes.append((float(lo), float(hi), box))
+    return boxes
+
+
+def _alive(page, server) -> None:
+    """The server lives, printed no traceback, and the tab still answers: a preset loads and plays (the
+    scene before may have ended, braked or faulted: that is a stop, not a death)."""
+    url, proc, log = server
+    assert proc.poll() is None, "".join(log[-50:])
+    assert not any("Traceback" in line for line in log), "".join(log)
+    for attempt in range(3):  # a click can land while the previous dropdown's list is still closing
+        choose(page, "Preset", "Explorer 1's flat spin" if attempt == 1 else "Oblate body settling")
+        page.wait_for_timeout(1000)
+        if "preset: Oblate body settling" in readouts(page):
+            break
+    wait_until(page, lambda: "Oblate body settling" in readouts(page), "a preset after the storm")
+    click(page, "Play")
+    t0 = read(page, "t")
+    wait_until(page, lambda: read(page, "t") != t0, "the simulation to go on publishing")
+
+
+def test_every_slider_to_both_ends_and_random_values(page, server):
+    for name in ("Body inertia", "Friction and cavity", "Initial state"):  # open the collapsed folders
+        page.get_by_text(name, exact=True).click()
+    boxes = _number_boxes(page)
+    assert len(boxes) >= 15, len(boxes)
+    rng = random.Random(7)
+    changes = 0
+    for lo, hi, box in boxes:  # both ends, no waiting between changes
+        for value in (lo, hi):
+            box.fill(f"{value:g}")
+            box.press("Enter")
+            changes += 1
+    for _ in range(RANDOM_CHANGES):
+        lo, hi, box = rng.choice(boxes)
+        box.fill(f"{rng.uniform(lo, hi):.4g}")
+        box.press("Enter")
+        changes += 1
+    assert changes >= 100 + 2 * len(boxes)
+    _alive(page, server)
+
+
+def test_an_invalid_combination_shows_its_message(page, server):
+    choose(page, "Preset", "Explorer 1's flat spin")
+    choose(page, "Preset", "Oblate body settling")  # fresh: no earlier change carried over
+    wait_until(page, lambda: "Oblate body settling" in readouts(page), "the preset")
+    set_slider(page, "m (kg)", 1.0)  # the whole system's mass M = 1 kg: m >= M is refused
+    wait_until(page, lambda: page.get_by_text(re.compile("Rejected:.*mass")).count() > 0, "the message for m >= M")
+    _alive(page, server)
+
+
+def test_every_preset_and_every_system_and_fidelity(page, server):
+    from app import controls, presets
+
+    for name in presets.preset_names():
+        choose(page, "Preset", name)
+        click(page, "Pause")
+    wait_until(page, lambda: presets.preset_names()[-1] in readouts(page), "the last preset")
+    click(page, "Pause")  # each preset starts playing
+    for system in controls.SYSTEM_LABELS:
+        choose(page, "System", system)
+        for fidelity in controls.FIDELITIES:
+            choose(page, "Fidelity", fidelity)
+    _alive(page, server)
