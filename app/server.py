@@ -113,7 +113,7 @@ class Session:
         self._lazy_panel("Speed vs accuracy", "speed_panel", "SpeedPanel",
                          lambda sc: eng.request("scenario", (sc, f"{eng.preset} (recommended method)")))
         self._lazy_panel("Sweep", "sweep_panel", "SweepPanel",
-                         lambda sc: eng.request("scenario", (sc, "sweep point")))
+                         lambda sc: eng.request("scenario", (sc, "sweep point")), scene=self.client.scene)
 
         def on(handle, action, convert=lambda v: v):
             @handle.on_update
@@ -159,7 +159,7 @@ class Session:
             f = self.upload.value
             eng.request("upload", (f.name, f.content))
 
-    def _lazy_panel(self, title: str, module: str, cls: str, apply) -> None:
+    def _lazy_panel(self, title: str, module: str, cls: str, apply, **options) -> None:
         """A folder whose panel is built on first open: panels pull in plotly (and its script in the
         browser), which the first frame should not wait for."""
         gui = self.client.gui
@@ -173,7 +173,7 @@ class Session:
             try:
                 panel_class = getattr(importlib.import_module(f".{module}", __package__), cls)
                 with folder:
-                    self.panels[title] = panel_class(gui, lambda: self.engine.scenario, apply)
+                    self.panels[title] = panel_class(gui, lambda: self.engine.scenario, apply, **options)
                 opener.remove()
             except Exception as exc:  # a panel that cannot open says so; the tab runs on
                 self.engine.error = f"{title} panel: {type(exc).__name__}: {exc}"

@@ -1,9 +1,10 @@
 """The sweep panel: pick one or two sliders, their ranges and a metric; the sweep runs in the background
 on local worker processes (physics.sweep), with a progress bar, then shows the curve or heat map.
 
-viser 1.1.1's plotly handle reports no clicks (GuiPlotlyHandle has no on_click), so "clicking a point"
-is a dropdown of the computed points, best first, and a "Load this point" button that hands the
-point's scenario to ``load_scenario``. Nothing here raises into viser: a failed sweep or an invalid
+viser 1.1.1's plotly handle reports no clicks (GuiPlotlyHandle has no on_click). So the points are
+also drawn in the 3-D scene as a board of cells beside the body (SweepBoard: colour and height by the
+metric), and clicking a cell loads its scenario; a dropdown of the points, best first, with a "Load
+this point" button does the same from the panel. Nothing here raises into viser: a failed sweep or an invalid
 point becomes a message in the panel.
 """
 
@@ -12,6 +13,8 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Callable
+
+import numpy as np
 
 import physics
 
@@ -88,6 +91,73 @@ def figure(table: physics.SweepTable):
     return fig
 
 
+BOARD_MAX = 400  # cells drawn in the scene; a larger sweep is listed in the dropdown only
+BOARD_SIZE = 2.0  # scene units the board spans (the body spans 1.5)
+BOARD_AT = (2.2, -1.0, -1.38)  # its corner: beside the body, just above the floor grid
+RAMP = ((68, 1, 84), (33, 145, 140), (253, 231, 37))  # viridis' ends and middle: small values dark
+
+
+def ramp(x: float) -> tuple[int, int, int]:
+    """Colour of a value scaled to [0, 1] (viridis-like, by linear steps between three stops)."""
+    x = min(max(x, 0.0), 1.0) * (len(RAMP) - 1)
+    i = min(int(x), len(RAMP) - 2)
+    f = x - i
+    return tuple(int(round(a + f * (b - a))) for a, b in zip(RAMP[i], RAMP[i + 1], strict=True))
+
+
+def board_cells(table: physics.SweepTable) -> list[tuple[int, tuple[float, float, float], tuple, float]]:
+    """(row, cell centre, colour, height) of every point: the first key along y, the second along x;
+    finite metric values scaled to [0, 1] give colour and height, failed points are grey and flat."""
+    n1 = len(table.axes[0])
+    n2 = len(table.axes[1]) if len(table.keys) > 1 else 1
+    cell = BOARD_SIZE / max(n1, n2)
+    values = table.column(table.metric)
+    finite = values[np.isfinite(values)]
+    lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    out = []
+    for i, v in enumerate(values):
+        a, b = divmod(i, n2)
+        x = (v - lo) / (hi - lo) if np.isfinite(v) and hi > lo else 0.5
+        color = ramp(x) if np.isfinite(v) else (150, 150, 150)
+        height = 0.05 + 0.3 * cell * x if np.isfinite(v) else 0.02
+        centre = (BOARD_AT[0] + (b + 0.5) * cell, BOARD_AT[1] + (a + 0.5) * cell, BOARD_AT[2] + height / 2)
+        out.append((i, centre, color, height))
+    return out
+
+
+class SweepBoard:
+    """The sweep's points as clickable cells in the scene; ``on_pick(row)`` runs when one is clicked."""
+
+    def __init__(self, scene, on_pick: Callable[[int], None], root: str = "/sweep_board"):
+        self.scene, self.on_pick, self.root = scene, on_pick, root
+        self.handles: list = []
+
+    def clear(self) -> None:
+        for h in reversed(self.handles):
+            try:
+                h.remove()
+            except Exception:  # noqa: BLE001 - already gone with the client
+                pass
+        self.handles = []
+
+    def show(self, table: physics.SweepTable) -> bool:
+        """Draw ``table`` (False, and nothing drawn, beyond BOARD_MAX points)."""
+        self.clear()
+        if len(table.rows) > BOARD_MAX:
+            return False
+        cells = board_cells(table)
+        cell = BOARD_SIZE / max(len(a) for a in table.axes)
+        self.handles.append(self.scene.add_label(
+            f"{self.root}/title", f"sweep: {table.metric} (click a cell to load it)",
+            position=(BOARD_AT[0], BOARD_AT[1] - 0.15, BOARD_AT[2]), font_screen_scale=0.7))
+        for i, centre, color, height in cells:
+            box = self.scene.add_box(f"{self.root}/cell{i}", color=color, dimensions=(0.9 * cell, 0.9 * cell, height),
+                                     position=centre, cast_shadow=False, receive_shadow=False)
+            box.on_click(lambda _event, i=i: self.on_pick(i))
+            self.handles.append(box)
+        return True
+
+
 class SweepPanel:
     """Widgets added to the current gui context. ``get_scenario()`` is the scene's scenario when Run is
     pressed; ``load_scenario(sc)`` is called (from the GUI callback thread) when a point is loaded.
@@ -95,8 +165,9 @@ class SweepPanel:
 
     def __init__(self, gui, get_scenario: Callable[[], physics.Scenario],
                  load_scenario: Callable[[physics.Scenario], None], *, workers: int | None = None,
-                 executor: str = "processes"):
+                 executor: str = "processes", scene=None):
         self.get_scenario, self.load_scenario = get_scenario, load_scenario
+        self.board = SweepBoard(scene, self.load_point) if scene is not None else None
         self.workers, self.executor = workers, executor
         self.table: physics.SweepTable | None = None
         self.thread: threading.Thread | None = None
@@ -246,6 +317,10 @@ class SweepPanel:
         note = (f"{len(table.rows)} points in {table.wall_s:.1f} s" + (" (stopped)" if table.stopped else "")
                 + (f", {failed} failed" if failed else "") + f". Smallest {table.metric}: "
                 + (controls.fmt(best[table.metric]) if not best["error"] else "none"))
+        if self.board is not None:
+            drawn = self.board.show(table)
+            note += (" Click a cell of the board beside the body to load its point." if drawn else
+                     f" (Over {BOARD_MAX} points: pick them from the list.)")
         self._say(note)
 
     def load_selected(self) -> physics.Scenario | None:
@@ -253,7 +328,12 @@ class SweepPanel:
         if self.table is None or self.point.value not in self._points:
             self._say("Run a sweep first, then pick a point.")
             return None
-        i = self._points[self.point.value]
+        return self.load_point(self._points[self.point.value])
+
+    def load_point(self, i: int) -> physics.Scenario | None:
+        """Hand row ``i``'s scenario to ``load_scenario`` (a dropdown choice or a clicked cell)."""
+        if self.table is None or not 0 <= i < len(self.table.rows):
+            return None
         try:
             sc = self.table.scenario(i)
             self.load_scenario(sc)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import physics
@@ -153,3 +154,52 @@ def test_panel_one_parameter_draws_a_curve_on_worker_processes():
     curve = panel.plot.figure.data[0]
     assert curve.type == "scatter" and len(curve.x) == 2
     assert all(math.isfinite(v) for v in curve.y) and "2 points" in panel.status.content
+
+
+class FakeScene:
+    """Records the board's cells; a cell's click callback is fired by the test."""
+
+    def __init__(self):
+        self.nodes = {}
+
+    def _add(self, name, **kw):
+        h = Handle("node", name)
+        h.kw = kw
+        h.remove = lambda name=name: self.nodes.pop(name, None)
+        self.nodes[name] = h
+        return h
+
+    def add_box(self, name, **kw):
+        return self._add(name, **kw)
+
+    def add_label(self, name, text, **kw):
+        return self._add(name, text=text, **kw)
+
+
+def test_clicking_a_cell_of_the_scene_board_loads_its_point():
+    sc = _scene()
+    loaded = []
+    scene = FakeScene()
+    panel = SweepPanel(FakeGui(), lambda: sc, loaded.append, executor="serial", scene=scene)
+    panel.key1.value = "pendulum.c_d"
+    panel.key1.fire()
+    panel.n1.value = 3
+    panel.key2.value = "pendulum.m"
+    panel.key2.fire()
+    panel.n2.value = 2
+    panel.run_btn.fire()
+    panel.thread.join(timeout=60)
+    table = panel.table
+    cells = {name: h for name, h in scene.nodes.items() if "/cell" in name}
+    assert len(cells) == 6 and "Click a cell" in panel.status.content
+    values = table.column("decay_time")
+    darkest = min(cells.values(), key=lambda h: sum(h.kw["color"]))
+    assert darkest.label.endswith(f"cell{int(np.argmin(values))}")  # the smallest metric is the darkest cell
+    i = 4
+    cells[f"/sweep_board/cell{i}"].fire()  # a click
+    assert len(loaded) == 1
+    row = table.rows[i]
+    assert loaded[0].pendulum.c_d == row["pendulum.c_d"] and loaded[0].pendulum.m == row["pendulum.m"]
+    panel.run_btn.fire()  # a new sweep replaces the board
+    panel.thread.join(timeout=60)
+    assert len([n for n in scene.nodes if "/cell" in n]) == 6
