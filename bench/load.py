@@ -163,6 +163,7 @@ def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_ev
     names = presets.preset_names()
     churned = 0
     next_churn = warmup if churn_every else float("inf")
+    visited = False
     try:
         while proc.poll() is None:
             now = time.perf_counter() - t0
@@ -175,6 +176,15 @@ def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_ev
                 recent = list(session.frame_ms)
                 if recent:
                     frame_ms[cid] = tuple(statistics.median(x[i] for x in recent) for i in (0, 1))
+            if not visited and churn_every and app.sessions and now < warmup:
+                # every preset shown once in a tab during the warm-up: a scene's first showing loads what
+                # it needs once (its kernels, the badge's analyses), which is not growth
+                session = next(iter(app.sessions.values()))
+                for name in names:
+                    session.engine.request("preset", name)
+                    time.sleep(0.25)
+                session.engine.request("preset", names[0])
+                visited = True
             if now >= next_churn and app.sessions:
                 session = next(iter(app.sessions.values()))
                 churned += 1

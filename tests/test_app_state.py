@@ -261,8 +261,6 @@ def test_the_polhode_lies_on_the_drawn_inertia_ellipsoid():
     e.request("polhode", True)
     fr = ticks(e, 600)  # 10 s: the flip carries omega across the ellipsoid
     p = fr.polhode
-    b = e.scenario.body
-    J = np.array([b.A, b.B, b.C])
     axes = e.ellipsoid()  # the drawn semi-axes: sum((p / axes)^2) = 1 on its surface
     assert len(p) > 10
     np.testing.assert_allclose(np.sum((p / axes) ** 2, axis=1), 1.0, rtol=1e-12)
@@ -279,7 +277,8 @@ def test_overlays_and_badge_for_the_pendulum_systems():
     assert e.wait_overlay() and e.error == ""
     t, theta, over, K, E = e.plot_data()
     assert np.all(np.isfinite(over)) and np.any(over != theta)
-    e = Engine(preset="Taylor's damper: three plane pendulums (seed 002)")  # meridian pendulums: in-plane ones do not touch the nutation
+    # meridian pendulums: in-plane ones do not touch the nutation
+    e = Engine(preset="Taylor's damper: three plane pendulums (seed 002)")
     e.request("overlay", "closed")
     ticks(e, 2)
     rate = physics.derived(e.scenario)["decay_rate_linear"]
