@@ -116,17 +116,19 @@ def box_mesh(dims) -> tuple[np.ndarray, np.ndarray]:
 
 def cylinder_mesh(radius: float, height: float, sections: int = 48) -> tuple[np.ndarray, np.ndarray]:
     """(vertices, faces) of a closed circular cylinder along e3 centred at the origin, wound outward.
-    Built here rather than with trimesh so the server starts without importing it (about 0.7 s)."""
+    The caps have their own copies of the rim vertices, so smooth shading keeps the rims sharp. Built
+    here rather than with trimesh so the server starts without importing it (about 0.7 s)."""
     a = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
     ring = np.column_stack([radius * np.cos(a), radius * np.sin(a), np.zeros(sections)])
     lo, hi = ring - [0, 0, height / 2], ring + [0, 0, height / 2]
-    vertices = np.vstack([lo, hi, [[0, 0, -height / 2], [0, 0, height / 2]]])
-    i = np.arange(sections)
-    j = (i + 1) % sections
-    n, bottom, top = sections, 2 * sections, 2 * sections + 1
+    n = sections
+    vertices = np.vstack([lo, hi, lo, hi, [[0, 0, -height / 2], [0, 0, height / 2]]])  # side rims, cap rims, centres
+    i = np.arange(n)
+    j = (i + 1) % n
+    bottom, top = 4 * n, 4 * n + 1
     side = np.concatenate([np.column_stack([i, j, j + n]), np.column_stack([i, j + n, i + n])])
-    caps = np.concatenate([np.column_stack([np.full(n, bottom), j, i]),
-                           np.column_stack([np.full(n, top), i + n, j + n])])
+    caps = np.concatenate([np.column_stack([np.full(n, bottom), j + 2 * n, i + 2 * n]),
+                           np.column_stack([np.full(n, top), i + 3 * n, j + 3 * n])])
     return vertices, np.concatenate([side, caps]).astype(np.int64)
 
 

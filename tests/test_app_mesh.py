@@ -70,7 +70,7 @@ def test_own_box_and_cylinder_meshes_are_closed_with_the_exact_volume():
     assert box.is_watertight and box.is_winding_consistent and box.volume == pytest.approx(6.0, rel=1e-12)
     n = 48
     v, f = cylinder_mesh(0.5, 0.2, n)
-    cyl = trimesh.Trimesh(v, f, process=False)
+    cyl = trimesh.Trimesh(v, f)  # merging the caps' copies of the rim vertices closes it
     polygon = 0.5 * n * 0.5**2 * np.sin(2 * np.pi / n)  # the inscribed n-gon's area
     assert cyl.is_watertight and cyl.volume == pytest.approx(polygon * 0.2, rel=1e-12)  # positive: wound outward
 
