@@ -55,8 +55,9 @@ def main(argv: list[str] | None = None) -> int:
                     raise
                 from .mesh import scaled_to  # the default scene's parts do not fit: scale the mesh to them
 
-                scale = float(np.sqrt(np.sum(scaled_to(mesh, base.body).moments) / np.sum(mesh.moments)))
-                mesh = scaled_to(mesh, base.body)
+                scaled = scaled_to(mesh, base.body)
+                scale = float(np.sqrt(np.sum(scaled.moments) / np.sum(mesh.moments)))
+                mesh = scaled
                 scenario = with_mesh(base, mesh)
                 print(f"mesh {args.mesh}: as given, the default scene's parts do not fit it ({exc}); drawn "
                       f"{scale:.3g} times its size instead (give --scenario to keep its size)", flush=True)
