@@ -9,52 +9,12 @@ import physics
 from bench.problems import moving_mass
 
 pytest.importorskip("plotly")
+from fake_gui import FakeGui  # noqa: E402
+
 from app.speed_panel import NOTHING_YET, SpeedPanel, figure  # noqa: E402
 
 ACCURACY = 1e-6  # rad, the scene's requested theta accuracy
 JOIN_S = 120.0  # the sweep thread must end well within this
-
-
-class Handle:
-    """Just enough of a viser handle: value, label, flags, content, figure and click callbacks."""
-
-    def __init__(self, kind, label=None, value=None, **kw):
-        self.kind, self.label, self.value = kind, label, value
-        self.disabled = kw.pop("disabled", False)
-        self.content = kw.pop("content", "")
-        self.figure = kw.pop("figure", None)
-        self.callbacks = []
-
-    def on_click(self, cb):
-        self.callbacks.append(cb)
-
-    def fire(self):
-        for cb in self.callbacks:
-            cb(None)
-
-
-class FakeGui:
-    def __init__(self):
-        self.handles = []
-
-    def _add(self, h):
-        self.handles.append(h)
-        return h
-
-    def add_markdown(self, content, **kw):
-        return self._add(Handle("markdown", content=content))
-
-    def add_button(self, label, **kw):
-        return self._add(Handle("button", label, disabled=kw.get("disabled", False)))
-
-    def add_progress_bar(self, value, **kw):
-        return self._add(Handle("progress", value=value))
-
-    def add_plotly(self, figure, **kw):
-        return self._add(Handle("plotly", figure=figure))
-
-    def button(self, prefix):
-        return next(h for h in self.handles if h.kind == "button" and h.label.startswith(prefix))
 
 
 def _scene():
