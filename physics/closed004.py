@@ -17,8 +17,6 @@ import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.special import expit
 
 # Taylor terms of G(s) used by momentum_power_integral for lam t < 1: the coefficient of s^j in G^n,
 # scaled by t^j, is below n^j / j! times G0^n, so 60 terms leave < 1e-30 for n <= 6.
@@ -159,6 +157,10 @@ def _along_13(t, theta0, G0, b, lam, A, C, H, D, rates: Sequence[Callable] = (),
     k = len(rates)
     te = np.unique(tt)
     if te[-1] > 0:
+        # imported here: scipy.integrate costs the explorer's start 0.4 s, and few runs need this
+        from scipy.integrate import solve_ivp
+        from scipy.special import expit
+
         def rhs(s, y):
             G = _momentum_scalar(s, G0, b, lam)
             if fixed:

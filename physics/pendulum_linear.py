@@ -14,8 +14,6 @@ from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
-from scipy.linalg import expm
-from scipy.optimize import brentq, minimize, root
 
 from .pendulum_frequencies import (  # noqa: F401  (re-exported: the linear theory in one namespace)
     PendulumMode,
@@ -201,6 +199,8 @@ def slowest_decay_rate(p: SphericalLinear) -> float:
 def linear_response(p: SphericalLinear, y0, t: np.ndarray) -> np.ndarray:
     """States (n, 6) of ``state_matrix`` at times t (n,), increasing, from y0 at t = 0: exact matrix
     exponentials (no eigenvectors, so it stays accurate at the double root of the optimum)."""
+    from scipy.linalg import expm  # here, not at the top: scipy.linalg adds 0.2 s to the app's start
+
     S = state_matrix(p)
     t = np.asarray(t, dtype=float)
     Y = np.empty((t.size, 6))
@@ -238,6 +238,8 @@ def first_e_crossing(theta, rate: float, fastest: float) -> float:
         hit = np.nonzero(th <= target if rate > 0 else th >= target)[0]
         if hit.size:
             i = hit[0]
+            from scipy.optimize import brentq  # here: scipy.optimize adds 0.2 s to the app's start
+
             return brentq(lambda tt: float(theta(np.array([tt]))[0]) - target, t[i - 1], t[i], xtol=1e-12)
         if horizon >= 60.0 / abs(rate):
             return math.inf
@@ -280,6 +282,8 @@ def _double_root(p: SphericalLinear, x: np.ndarray, s: complex) -> tuple[np.ndar
         scale = p.A * max(abs(ss), 1.0) ** 3
         return [f.real / scale, f.imag / scale, d.real / scale, d.imag / scale]
 
+    from scipy.optimize import root  # here: scipy.optimize adds 0.2 s to the app's start
+
     sol = root(eqs, [x[0], x[1], s.real, s.imag], method="hybr", options=dict(xtol=1e-14))
     converged = sol.success or np.max(np.abs(sol.fun)) < 1e-12  # hybr "no progress" at round-off
     if not converged or sol.x[0] <= p.W or sol.x[1] <= 0:
@@ -314,6 +318,8 @@ def optimal_parameters(p: SphericalLinear) -> tuple[float, float, float]:
             if x[0] <= p.W or x[1] <= 0:
                 return 1e3
             return -slowest_decay_rate(_tuned(p, x[0], x[1]))
+
+    from scipy.optimize import minimize  # here: scipy.optimize adds 0.2 s to the app's start
 
     simplex = [x0, x0 * [1.02, 1.0], x0 * [1.0, 1.2]]
     coarse = minimize(neg_rate, x0, method="Nelder-Mead",

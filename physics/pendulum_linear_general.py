@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg import expm
 
 E3 = np.array([0.0, 0.0, 1.0])
 EQUILIBRIUM_TOL = 1e-9  # relative: the rest state must be a steady spin for a linearisation about it
@@ -173,6 +172,8 @@ def linear_nutation(system, w0, t: np.ndarray) -> np.ndarray:
     rate w0 = (omega_x, omega_y) (rad/s) and the bobs at rest; t (n,) increasing, s."""
     S, Q, H0 = linear_matrices(system)
     y = np.zeros(S.shape[0])
+    from scipy.linalg import expm  # here, not at the top: scipy.linalg adds 0.2 s to the app's start
+
     y[:2] = w0[:2]
     out = np.empty(len(t))
     t_prev, step, E = 0.0, None, None

@@ -6,7 +6,6 @@ import time
 import warnings
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .compiled import dispatch as kernels
 from .compiled import dop853, fixed, midpoint
@@ -139,6 +138,8 @@ def _raise_on_fault(status, t_last):
 
 def _scipy(model, p, y0, t, method, rtol, atol, b):
     """scipy's solve_ivp on the compiled right-hand side: the baselines of the speed study."""
+    from scipy.integrate import solve_ivp  # here: importing scipy.integrate costs the explorer's start 0.4 s
+
     out = np.empty_like(y0)
 
     def fun(tt, y):

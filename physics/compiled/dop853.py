@@ -15,9 +15,9 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from .dispatch import braking_norm, fault, rhs
+from .tableau import DOP853 as _dop
 
 N_STAGES = _dop.N_STAGES
 A_TAB = np.ascontiguousarray(_dop.A[:N_STAGES, :N_STAGES])

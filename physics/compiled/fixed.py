@@ -21,10 +21,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from .dispatch import braking_norm, fault, rhs
 from .dop853 import BRAKE_END
+from .tableau import DOP853 as _dop
 
 WEIGHT_TOL = 1e-14  # the tableau's consistency conditions hold to rounding
 
