@@ -7,6 +7,7 @@ as finely as the integrator needs (LiveRun.advance) and publishes about 60 frame
 
 from __future__ import annotations
 
+import gc
 import threading
 import time
 import traceback
@@ -222,6 +223,12 @@ class Session:
         self.client.camera.position = (3.0, -3.4, 1.9)
         self.client.camera.look_at = (0.0, 0.0, 0.3)
         self.root = f"/s{self.client.client_id}"
+        # viser's default environment map costs a browser without a GPU (software WebGL) a 4-6 s stall
+        # in about half the page loads, which pushed the first drawn frame past 5 s
+        # (bench/explorer_startup.py); a hemisphere light gives the same soft fill at no such cost.
+        sc.configure_environment_map(None)
+        sc.add_light_hemisphere(f"{self.root}_fill", sky_color=(255, 255, 255), ground_color=(120, 120, 130),
+                                intensity=1.5)
         sc.add_grid(f"{self.root}_grid", width=6.0, height=6.0, cell_size=0.25, position=(0.0, 0.0, -1.4))
         self.world = sc.add_frame(self.root, show_axes=False)
         self.handles: dict = {}
@@ -413,7 +420,12 @@ class App:
         self.stats["sessions"] = len(self.sessions)
         if s is not None:
             s.close()
-            _trim_heap()
+            # A closed session is cyclic garbage (the client's GUI handles hold our callbacks, which close
+            # over the session), which only a full collection frees; CPython runs one only after the
+            # long-lived objects grow by a quarter (~35k here), so each reconnection kept its ~3 MB for
+            # dozens of reconnections. viser holds the client handle until this callback returns: collect
+            # from another thread, once the session's loop has ended and viser has let go.
+            threading.Thread(target=_collect_closed, args=(s.thread,), name="collect-session", daemon=True).start()
 
     @property
     def port(self) -> int:
@@ -425,10 +437,17 @@ class App:
         self.server.stop()
 
 
+def _collect_closed(loop: threading.Thread, delay: float = 1.0) -> None:
+    """Free a closed session (see App._disconnect) and hand its memory back to the system."""
+    loop.join(timeout=5.0)  # its frame holds the session until the loop ends
+    time.sleep(delay)  # viser's disconnect handling drops its last reference to the client handle
+    gc.collect()  # a full collection: the session's objects have long reached the oldest generation
+    _trim_heap()
+
+
 def _trim_heap() -> None:
-    """Hand freed memory back to the system after a tab closes: glibc keeps a closed session's
-    buffers (about 1 MB each) otherwise, and a server that sees many reconnections grows
-    (docs/reliability.md). Elsewhere than glibc this does nothing."""
+    """Hand freed memory back to the system after a tab's session is freed: glibc keeps its buffers
+    otherwise (docs/reliability.md). Elsewhere than glibc this does nothing."""
     try:
         import ctypes
 
