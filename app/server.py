@@ -322,18 +322,20 @@ class Session:
             if eng.sliders_changed:
                 eng.sliders_changed = False
                 self._sync_widgets()
-                self.badge_md.content = eng.badge()
             if plots_now and eng.plots_changed:
                 eng.plots_changed = False
                 plots.update_plots(self.plots, eng.plot_data(), eng.has_overlay)
                 self.readout_md.content = _readout_md(eng)
-                self.badge_md.content = eng.badge()
+            _set(self.badge_md, "content", eng.badge())  # cached: computed once per scenario, off this thread
             _set(self.error_md, "content", f"<span style='color:#c00'>**Rejected:** {eng.error}</span>"
                  if eng.error else "")
             state = "playing" if eng.playing else "paused"
             if fr.status != "running":
                 state = fr.status + (": " + fr.message if fr.message else "")
-            _set(self.status_md, "content", f"**Quasirigid explorer** · {state} · warp {eng.warp:.3g}x")
+            warp = f"warp {eng.warp:.3g}x"
+            if eng.playing and fr.status == "running" and eng.achieved_warp < 0.8 * eng.warp:
+                warp += f" (reaching {eng.achieved_warp:.3g}x: as fast as this machine integrates)"
+            _set(self.status_md, "content", f"**Quasirigid explorer** · {state} · {warp}")
 
     # ---- the loop ----------------------------------------------------------------------------------
     def _loop(self) -> None:

@@ -27,6 +27,10 @@ PLOT_POINTS = 1500  # plot window (ring buffer rows)
 TRAIL_POINTS = 1200
 HISTORY_ROWS = 20000  # trajectory rows kept for the CSV export
 MAX_FRAME_DT = 0.1  # s of wall time: after a stall, do not try to catch up more than this
+# wall seconds one frame may spend integrating, so a warp beyond what the machine can integrate slows
+# the simulated clock instead of the frames (a stiff preset at 6000x took 0.27 s a frame without it)
+TICK_BUDGET_S = 0.008
+PROBE = 16.0  # after a change, the first frame integrates this much less than the last estimate allows
 OVERLAY_SAMPLES = 600
 OVERLAY_WINDOWS = 2.0  # a prediction covers this many plot windows ahead
 DEFAULT_WARP = 1.0  # the default scene is made to be watched in real time
@@ -76,6 +80,7 @@ class Engine:
         self.bob: int | None = None  # plane pendulum the pendulum sliders edit (0-based); None = every bob
         self.show_polhode = False
         self._badge: tuple | None = None  # (scenario, markdown) of the last badge
+        self._badge_busy = False
         self.overlay_fidelity = "none"
         self.error = ""
         self._overlay_thread: threading.Thread | None = None
@@ -83,6 +88,9 @@ class Engine:
         self.frames = 0
         self.seq = 0
         self.wall_total = 0.0  # wall seconds spent in advance()
+        self.sim_rate: float | None = None  # simulated s per wall s of integration, measured on the last frame
+        self.warp = DEFAULT_WARP
+        self.achieved_warp = DEFAULT_WARP  # simulated s per wall s while playing, smoothed over about 10 frames
         self.scene_changed = True  # the session redraws the static parts (shape, parts) when set
         self.sliders_changed = True  # the session pushes slider values/ranges when set
         self.plots_changed = True
@@ -144,6 +152,8 @@ class Engine:
         self._record(self.run.last)
         self.overlay = None
         self.overlay_dirty = True
+        self.sim_rate, self._probe = None, True  # a new run's cost is unknown
+        self.achieved_warp = self.warp
         self.scene_changed = self.sliders_changed = self.plots_changed = True
         self._drawn = None
 
@@ -177,6 +187,8 @@ class Engine:
                 self._act(action, value)
             if pending:
                 self._apply_values(pending)
+            if actions or pending:
+                self._probe = True  # a change may make integrating far dearer (a stiffer chi, a warp)
         except physics.ScenarioError as exc:
             self.error = str(exc)
         except Exception as exc:  # never let a bad input kill the loop
@@ -218,7 +230,7 @@ class Engine:
             self.error = ""
             self._restarted()
         elif action == "warp":
-            self.warp = float(min(presets.WARP_MAX, max(presets.WARP_MIN, value)))
+            self.warp = self.achieved_warp = float(min(presets.WARP_MAX, max(presets.WARP_MIN, value)))
         elif action == "preset":
             sc = presets.load_preset(value)
             self.mesh = None  # a preset brings its own body
@@ -298,7 +310,11 @@ class Engine:
         """Apply pending changes, advance by warp * wall_dt (if playing) and return the frame."""
         self._apply_pending()
         if self.playing:
-            self._advance(self.warp * min(max(wall_dt, 0.0), MAX_FRAME_DT))
+            t0 = self.run.t
+            wall = min(max(wall_dt, 0.0), MAX_FRAME_DT)
+            self._advance(self.warp * wall, floor=wall)
+            if wall > 0:
+                self.achieved_warp += 0.1 * ((self.run.t - t0) / wall - self.achieved_warp)
         if self.overlay is not None and self.run.t > self.overlay[0][-1]:
             self.overlay_dirty = True  # the run has passed the prediction: predict again from now
         if self.overlay_dirty:
@@ -306,16 +322,26 @@ class Engine:
         self.frames += 1
         return self.frame()
 
-    def _advance(self, dt: float) -> None:
+    def _advance(self, dt: float, floor: float | None = None) -> None:
+        """Integrate dt simulated seconds. With a ``floor`` (a frame's wall seconds: playing), only as many
+        as TICK_BUDGET_S of wall time affords at the last measured rate (PROBE times fewer after a change,
+        whose cost is not known yet), but never less than real time."""
         if self.run.ended or dt <= 0:
             return
-        start = time.perf_counter()
+        if floor is not None:
+            cap = dt if self.sim_rate is None else self.sim_rate * TICK_BUDGET_S
+            dt = min(dt, max(cap / PROBE if self._probe else cap, floor))
+            self._probe = False
+        t0, start = self.run.t, time.perf_counter()
         try:
             tr = self.run.advance(dt, samples=SAMPLES_PER_FRAME)
         except Exception as exc:  # a model error that is not an integrator status: report, stop
             self.run.status, self.run.message = "fault", f"{type(exc).__name__}: {exc}"
             return
-        self.wall_total += time.perf_counter() - start
+        spent = time.perf_counter() - start
+        self.wall_total += spent
+        if self.run.t > t0 and spent > 0:
+            self.sim_rate = (self.run.t - t0) / spent
         if len(tr):
             self._record(tr)
 
@@ -512,30 +538,30 @@ class Engine:
         d["q"] = "[" + ", ".join(f"{x:.4f}" for x in q) + "]"
         return d
 
-    def badge(self) -> str:
+    def badge(self, block: bool = False) -> str:
         """Auto's choice (model, method, error bound against the requested accuracy, and why) and the
-        averaged model's validity conditions, as markdown. Computed once per scenario."""
+        averaged model's validity conditions, as markdown. Computed once per scenario, in a background
+        thread (up to 0.4 s for three plane pendulums: the frames go on meanwhile); until it is ready,
+        a placeholder. ``block``: wait for it instead."""
         sc = self.scenario
-        if self._badge is not None and self._badge[0] is sc:
+        done = self._badge
+        if done is not None and done[0] is sc:
+            return done[1]
+        if block:
+            self._badge = (sc, _badge_text(sc))
             return self._badge[1]
+        with self._lock:
+            start = not self._badge_busy
+            self._badge_busy = True
+        if start:
+            threading.Thread(target=self._badge_worker, args=(sc,), name="badge", daemon=True).start()
+        return "_auto: working out its choice..._"
+
+    def _badge_worker(self, sc: physics.Scenario) -> None:
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                d = physics.derived(sc)
-                conds = physics.validity_conditions(sc)
-        except Exception as exc:  # never let the badge break a frame
-            return f"auto: unavailable ({exc})"
-        head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
-        if conds:
-            head += f"  \naveraged model's conditions {'hold' if all(c.holds for c in conds) else 'fail'}:"
-        lines = [f"{'OK' if c.holds else 'FAILS'}: {c}" for c in conds]
-        bound = d.get("auto_error_bound")
-        shown_bound = isinstance(bound, float) and bound > 0
-        lines.append(f"requested accuracy: {d.get('auto_accuracy', 'not set')}"
-                     + (f"; error bound of the choice {bound:.2g} rad" if shown_bound else ""))
-        text = head + "  \n" + "  \n".join(lines) + f"  \n_{d['auto_reason']}_"
-        self._badge = (sc, text)
-        return text
+            self._badge = (sc, _badge_text(sc))
+        finally:
+            self._badge_busy = False  # the next call starts another if the scenario has changed since
 
     def csv(self) -> bytes:
         buf = io.StringIO()
@@ -549,6 +575,25 @@ class Engine:
 
 class _Cancelled(Exception):
     """A newer overlay request replaced this one."""
+
+
+def _badge_text(sc: physics.Scenario) -> str:
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            d = physics.derived(sc)
+            conds = physics.validity_conditions(sc)
+    except Exception as exc:  # never let the badge break a frame
+        return f"auto: unavailable ({exc})"
+    head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
+    if conds:
+        head += f"  \naveraged model's conditions {'hold' if all(c.holds for c in conds) else 'fail'}:"
+    lines = [f"{'OK' if c.holds else 'FAILS'}: {c}" for c in conds]
+    bound = d.get("auto_error_bound")
+    shown_bound = isinstance(bound, float) and bound > 0
+    lines.append(f"requested accuracy: {d.get('auto_accuracy', 'not set')}"
+                 + (f"; error bound of the choice {bound:.2g} rad" if shown_bound else ""))
+    return head + "  \n" + "  \n".join(lines) + f"  \n_{d['auto_reason']}_"
 
 
 def _with_fidelity(run: physics.Run, fidelity: str) -> physics.Run:

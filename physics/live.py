@@ -114,6 +114,7 @@ class LiveRun:
         self.t = 0.0
         self.h = 0.0
         self.nsteps = 0
+        self.unchecked_steps = 0  # adaptive steps since the last stiffness check
         self.nfev = 0
         self.status = RUNNING
         self.message = ""
@@ -210,12 +211,18 @@ class LiveRun:
         self.nfev += int(nfev)
         self.nsteps += int(nsteps)
         rows_t, rows_y = t_out[1:n], Y[1:n]
-        if status == dop853.OK:
+        if method not in FIXED_STEP_METHODS:
+            self.unchecked_steps += int(nsteps)
+        # the stiffness check runs when a call runs out of steps, and every MAX_STEPS_PER_CALL adaptive steps
+        # however they were split into calls (the explorer asks for a few milliseconds' worth at a time)
+        check = status == dop853.MAX_STEPS or (status == dop853.OK and self.unchecked_steps >= MAX_STEPS_PER_CALL)
+        if status == dop853.OK and not check:
             self.h = float(h)
-        elif status == dop853.MAX_STEPS:
-            # out of budget for this call, not a fault: keep the progress and the step size, unless the
-            # step is held at the explicit method's stability limit (a stiff problem): that never ends
+        elif check:
+            # out of budget, not a fault: keep the progress and the step size, unless the step is held at
+            # the explicit method's stability limit (a stiff problem): that never ends
             self.h = float(h)
+            self.unchecked_steps = 0
             if t_last > (rows_t[-1] if len(rows_t) else self.t):
                 rows_t, rows_y = np.append(rows_t, t_last), np.vstack([rows_y, y_last[None, :]])
             h_lambda = self.h * spectral_radius(self.model.kernel, float(t_last), y_last, self.p)

@@ -115,6 +115,21 @@ def test_too_stiff_for_the_explicit_integrator_through_live_run():
     _assert_stopped_cleanly(run)
 
 
+def test_stiffness_is_found_when_the_steps_come_in_small_calls():
+    """The explorer asks for a few milliseconds' worth of steps per frame, so no single call runs out of
+    steps: the check runs every MAX_STEPS_PER_CALL steps however they were split."""
+    from physics.live import MAX_STEPS_PER_CALL
+
+    run = LiveRun(Scenario.from_dict(STIFF_LIVE))
+    for _ in range(400):
+        run.advance(2e-3)  # about 7k steps each at the stable step of 3e-7 s
+        if run.status != RUNNING:
+            break
+    assert run.status == FAULT and "too stiff for the explicit integrator" in run.message
+    assert run.nsteps >= MAX_STEPS_PER_CALL  # found at the first check, not by a call running out
+    _assert_stopped_cleanly(run)
+
+
 def test_an_accuracy_bound_fast_problem_is_not_called_stiff():
     """Fast but undamped (chi = 0): the steps resolve the oscillation, so running out of one call's
     budget is slow progress, not a fault."""
