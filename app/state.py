@@ -88,9 +88,6 @@ class Engine:
         self.frames = 0
         self.seq = 0
         self.wall_total = 0.0  # wall seconds spent in advance()
-        self.sim_rate: float | None = None  # simulated s per wall s of integration, measured on the last frame
-        self.warp = DEFAULT_WARP
-        self.achieved_warp = DEFAULT_WARP  # simulated s per wall s while playing, smoothed over about 10 frames
         self.scene_changed = True  # the session redraws the static parts (shape, parts) when set
         self.sliders_changed = True  # the session pushes slider values/ranges when set
         self.plots_changed = True
@@ -152,8 +149,9 @@ class Engine:
         self._record(self.run.last)
         self.overlay = None
         self.overlay_dirty = True
-        self.sim_rate, self._probe = None, True  # a new run's cost is unknown
-        self.achieved_warp = self.warp
+        self.sim_rate: float | None = None  # simulated s per wall s of integration, measured on the last frame
+        self._probe = True  # a new run's cost is unknown
+        self.achieved_warp = self.warp  # simulated s per wall s while playing, smoothed over about 10 frames
         self.scene_changed = self.sliders_changed = self.plots_changed = True
         self._drawn = None
 
