@@ -213,26 +213,24 @@ class LiveRun:
         rows_t, rows_y = t_out[1:n], Y[1:n]
         if method not in FIXED_STEP_METHODS:
             self.unchecked_steps += int(nsteps)
-        # the stiffness check runs when a call runs out of steps, and every MAX_STEPS_PER_CALL adaptive steps
-        # however they were split into calls (the explorer asks for a few milliseconds' worth at a time)
-        check = status == dop853.MAX_STEPS or (status == dop853.OK and self.unchecked_steps >= MAX_STEPS_PER_CALL)
-        if status == dop853.OK and not check:
+        if status in (dop853.OK, dop853.MAX_STEPS):
+            # out of budget is not a fault: keep the progress and the step size, unless the step is held at
+            # the explicit method's stability limit (a stiff problem): that never ends. The check runs when
+            # a call runs out of steps, and every MAX_STEPS_PER_CALL adaptive steps however they were split
+            # into calls (the explorer asks for a few milliseconds' worth at a time).
             self.h = float(h)
-        elif check:
-            # out of budget, not a fault: keep the progress and the step size, unless the step is held at
-            # the explicit method's stability limit (a stiff problem): that never ends
-            self.h = float(h)
-            self.unchecked_steps = 0
             if t_last > (rows_t[-1] if len(rows_t) else self.t):
                 rows_t, rows_y = np.append(rows_t, t_last), np.vstack([rows_y, y_last[None, :]])
-            h_lambda = self.h * spectral_radius(self.model.kernel, float(t_last), y_last, self.p)
-            if h_lambda > STIFF_H_LAMBDA:
-                self.status = FAULT
-                self.message = str(IntegrationFault(
-                    f"too stiff for the explicit integrator (DOP853): {int(nsteps)} steps covered "
-                    f"{float(t_last) - self.t:.3g} s, each held at the stability limit (h |lambda| = {h_lambda:.2g}, "
-                    "fastest mode faster than the motion); lower Omega or chi, or use the averaged fidelity",
-                    float(t_last)))
+            if status == dop853.MAX_STEPS or self.unchecked_steps >= MAX_STEPS_PER_CALL:
+                self.unchecked_steps = 0
+                h_lambda = self.h * spectral_radius(self.model.kernel, float(t_last), y_last, self.p)
+                if h_lambda > STIFF_H_LAMBDA:
+                    self.status = FAULT
+                    self.message = str(IntegrationFault(
+                        f"too stiff for the explicit integrator (DOP853): {int(nsteps)} steps covered "
+                        f"{float(t_last) - self.t:.3g} s, each held at the stability limit (h |lambda| = "
+                        f"{h_lambda:.2g}, fastest mode faster than the motion); lower Omega or chi, or use the "
+                        "averaged fidelity", float(t_last)))
         else:
             if t_last > (rows_t[-1] if len(rows_t) else self.t):
                 rows_t, rows_y = np.append(rows_t, t_last), np.vstack([rows_y, y_last[None, :]])
