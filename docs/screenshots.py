@@ -118,11 +118,11 @@ def take(session, page, shot: Shot, out: Path) -> Path:
         raise KeyError(f"shot {shot.name!r}: no preset {shot.preset!r}")
     eng.request("preset", shot.preset)
     eng.request("play")
-    session.overlay.value = "none"  # a previous shot's overlay: each shot starts from a clean panel
+    session.panel.overlay.value = "none"  # a previous shot's overlay: each shot starts from a clean panel
     eng.request("overlay", "none")
     page.wait_for_timeout(1500)  # the preset loads and the panel follows
     for attr, action, value in shot.settings:
-        getattr(session, attr).value = value  # shows it in the panel (a server-side set is not a user's change)
+        getattr(session.panel, attr).value = value  # shows it in the panel (a server-side set is not a user's change)
         eng.request(action, value)
     if shot.warp is not None:
         eng.request("warp", shot.warp)

@@ -1,0 +1,219 @@
+"""One tab's control panel: the status line, readouts, plots, playback, model, sliders, view, file and
+the lazily built study panels. Callbacks only record requests on the engine; ``update`` shows a frame's
+numbers and ``sync`` pushes slider values and ranges after a scene change.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import viser
+
+from . import controls, plots, presets
+from .engine import Engine
+from .mesh import INERTIA_SHAPE, asset_names
+
+
+class Panel:
+    """The GUI of one browser tab."""
+
+    def __init__(self, client: viser.ClientHandle, engine: Engine):
+        self.client = client
+        self.engine = engine
+        self._build_gui()
+
+    def _build_gui(self) -> None:
+        gui, eng = self.client.gui, self.engine
+        gui.configure_theme(control_width="large")
+        self.status_md = gui.add_markdown("**Quasirigid explorer**")
+        self.readout_md = gui.add_markdown("")
+        self.error_md = gui.add_markdown("")
+        with gui.add_folder("Plots"):
+            self.plots = plots.build_plots(gui, eng.plot_data())
+        with gui.add_folder("Playback"):
+            self.play_btn = gui.add_button("Play", icon=None)
+            self.pause_btn = gui.add_button("Pause")
+            self.step_btn = gui.add_button("Step")
+            self.reset_btn = gui.add_button("Reset")
+            self.warp = gui.add_slider("time warp (log10 x)", min=-1.0, max=4.0, step=0.05,
+                                       initial_value=float(np.log10(eng.warp)),
+                                       hint="simulated seconds per wall second, as a power of ten (0 = 1x, 3 = 1000x)")
+            self.restart = gui.add_checkbox("restart on change", False,
+                                            hint="restart from t = 0 on every change instead of keeping the state")
+        with gui.add_folder("Model"):
+            self.preset = gui.add_dropdown("Preset", presets.preset_names(), initial_value=eng.preset
+                                           if eng.preset in presets.preset_names() else presets.DEFAULT)
+            self.system = gui.add_dropdown("System", list(controls.SYSTEM_LABELS),
+                                           initial_value=_system_label(eng.scenario.system))
+            self.fidelity = gui.add_dropdown("Fidelity", list(controls.FIDELITIES), initial_value=eng.fidelity_choice,
+                                             hint="full multibody, averaged (quasi-rigid), closed form, or auto")
+            self.badge_md = gui.add_markdown("")
+            self.overlay = gui.add_dropdown("Overlay prediction", ["none", "averaged", "closed"],
+                                            initial_value="none",
+                                            hint="a cheaper fidelity's theta(t), computed with physics.simulate")
+            self.tune_btn = gui.add_button("Tune to resonance", hint="spherical pendulum: k = resonant (MODELS B.5)")
+        self.panels: dict = {}
+        self.sliders, self.folders = controls.build_sliders(gui, eng.values)
+        with self.folders["Pendulum damper"]:
+            self.bob = gui.add_dropdown("bob", ["all", "1", "2", "3"], initial_value="all",
+                                        hint="plane pendulums: which bob the sliders above edit")
+        with gui.add_folder("View"):
+            self.view = gui.add_dropdown("Frame", ["inertial", "body"], initial_value="inertial",
+                                         hint="inertial: K fixed and pointing up; body: the body stays still")
+            self.exag = gui.add_slider("exaggerate u (x)", min=1.0, max=1000.0, step=1.0, initial_value=10.0,
+                                       hint="the mass's displacement is drawn this many times larger")
+            self.polhode = gui.add_checkbox("polhode", False, hint="the tip of omega on the inertia ellipsoid, in "
+                                            "the body (Poinsot): closed loops when nothing dissipates")
+            self.body_mesh = gui.add_dropdown("body drawn as", [INERTIA_SHAPE, *asset_names()],
+                                              initial_value=INERTIA_SHAPE,
+                                              hint="a mesh from assets/meshes: its inertia ratios replace A, B, C "
+                                              "(scaled to keep A + B + C); restarts the run")
+        with gui.add_folder("File", expand_by_default=False):
+            self.toml_btn = gui.add_button("Download scenario (TOML)")
+            self.csv_btn = gui.add_button("Download trajectory (CSV)")
+            self.upload = gui.add_upload_button("Load scenario (TOML)", mime_type=".toml",
+                                                hint="a scenario file, as `python -m physics` reads (64 kB at most)")
+        self._lazy_panel("Speed vs accuracy", "speed_panel", "SpeedPanel",
+                         lambda sc: eng.request("scenario", (sc, f"{eng.preset} (recommended method)")))
+        self._lazy_panel("Sweep", "sweep_panel", "SweepPanel",
+                         lambda sc: eng.request("scenario", (sc, "sweep point")), scene=self.client.scene)
+
+        def on(handle, action, convert=lambda v: v):
+            @handle.on_update
+            def _(event):
+                if event.client is None:  # our own assignment of a value: not a user's change
+                    return
+                eng.request(action, convert(handle.value))
+
+        def click(handle, action):
+            @handle.on_click
+            def _(_event):
+                eng.request(action)
+
+        click(self.play_btn, "play")
+        click(self.pause_btn, "pause")
+        click(self.step_btn, "step")
+        click(self.reset_btn, "reset")
+        click(self.tune_btn, "tune")
+        on(self.warp, "warp", lambda v: 10.0 ** float(v))
+        on(self.restart, "restart_on_change")
+        on(self.preset, "preset")
+        on(self.system, "system", lambda v: controls.SYSTEM_LABELS[v])
+        on(self.fidelity, "fidelity")
+        on(self.overlay, "overlay")
+        on(self.view, "view")
+        on(self.exag, "exaggeration")
+        on(self.polhode, "polhode")
+        on(self.body_mesh, "mesh")
+        on(self.bob, "bob", lambda v: None if v == "all" else int(v) - 1)
+        for key, slider in self.sliders.items():
+            self._bind_slider(key, slider)
+
+        @self.toml_btn.on_click
+        def _(event):
+            (event.client or self.client).send_file_download("scenario.toml", eng.toml(), save_immediately=True)
+
+        @self.csv_btn.on_click
+        def _(event):
+            (event.client or self.client).send_file_download("trajectory.csv", eng.csv(), save_immediately=True)
+
+        @self.upload.on_upload
+        def _(_event):
+            f = self.upload.value
+            eng.request("upload", (f.name, f.content))
+
+    def _lazy_panel(self, title: str, module: str, cls: str, apply, **options) -> None:
+        """A folder whose panel is built on first open: panels pull in plotly (and its script in the
+        browser), which the first frame should not wait for."""
+        gui = self.client.gui
+        with gui.add_folder(title, expand_by_default=False) as folder:
+            opener = gui.add_button(f"Open the {title.lower()} panel")
+
+        @opener.on_click
+        def _(_event):
+            import importlib
+
+            try:
+                panel_class = getattr(importlib.import_module(f".{module}", __package__), cls)
+                with folder:
+                    self.panels[title] = panel_class(gui, lambda: self.engine.scenario, apply, **options)
+                opener.remove()
+            except Exception as exc:  # a panel that cannot open says so; the tab runs on
+                self.engine.error = f"{title} panel: {type(exc).__name__}: {exc}"
+
+    def _bind_slider(self, key: str, slider) -> None:
+        @slider.on_update
+        def _(event):
+            if event.client is None:
+                return
+            self.engine.request_value(key, float(slider.value))
+
+    def sync(self) -> None:
+        """After a preset or system change: slider values, ranges and which folders apply."""
+        eng = self.engine
+        system = eng.scenario.system
+        for key, slider in self.sliders.items():  # assign only what differs: each assignment is a message
+            p = controls.BY_KEY[key]
+            lo, hi = controls.slider_range(p, eng.values[key])
+            _set(slider, "min", lo)
+            _set(slider, "max", hi)
+            _set(slider, "value", min(max(eng.values[key], lo), hi))
+            _set(slider, "disabled", system not in p.systems)
+        _set(self.folders["Pendulum damper"], "visible", system != "moving_mass")
+        for title in ("Seed 004: mass, medium, braking", "Friction and cavity"):
+            _set(self.folders[title], "visible", system == "moving_mass")
+        _set(self.tune_btn, "visible", system == "spherical_pendulum")
+        n = len(eng.scenario.plane_pendulums)
+        _set(self.bob, "visible", n > 0)
+        if n > 0:
+            _set(self.bob, "options", ("all", *(str(i + 1) for i in range(n))))
+            _set(self.bob, "value", "all" if eng.bob is None else str(eng.bob + 1))
+        _set(self.body_mesh, "value", eng.mesh.name if eng.mesh is not None and eng.mesh.name in asset_names()
+             else INERTIA_SHAPE)
+        for panel in self.panels.values():  # a new scene may have other sliders to sweep
+            if hasattr(panel, "refresh"):
+                panel.refresh()
+        _set(self.warp, "value", float(np.log10(eng.warp)))
+        if eng.preset in presets.preset_names():
+            _set(self.preset, "value", eng.preset)
+        _set(self.system, "value", _system_label(system))
+        _set(self.fidelity, "value", eng.fidelity_choice)
+
+    # ---- scene -----------------------------------------------------------------------------------
+
+    def update(self, fr, plots_now: bool) -> None:
+        """Show a frame's numbers (inside the session's ``client.atomic()``)."""
+        eng = self.engine
+        if eng.sliders_changed:
+            eng.sliders_changed = False
+            self.sync()
+        if plots_now and eng.plots_changed:
+            eng.plots_changed = False
+            plots.update_plots(self.plots, eng.plot_data(), eng.has_overlay)
+            self.readout_md.content = _readout_md(eng)
+        _set(self.badge_md, "content", eng.badge())  # cached: computed once per scenario, off this thread
+        _set(self.error_md, "content", f"<span style='color:#c00'>**Rejected:** {eng.error}</span>"
+             if eng.error else "")
+        state = "playing" if eng.playing else "paused"
+        if fr.status != "running":
+            state = fr.status + (": " + fr.message if fr.message else "")
+        warp = f"warp {eng.warp:.3g}x"
+        if eng.playing and fr.status == "running" and eng.achieved_warp < 0.8 * eng.warp:
+            warp += f" (reaching {eng.achieved_warp:.3g}x: as fast as this machine integrates)"
+        _set(self.status_md, "content", f"**Quasirigid explorer** · {state} · {warp}")
+
+
+def _set(handle, name: str, value) -> None:
+    if getattr(handle, name) != value:
+        setattr(handle, name, value)
+
+
+def _system_label(system: str) -> str:
+    return next(k for k, v in controls.SYSTEM_LABELS.items() if v == system)
+
+
+def _readout_md(eng: Engine) -> str:
+    """One ``name = value`` line per readout (the browser test reads them back)."""
+    d = eng.readouts()
+    return "  \n".join(f"{k} = {v}" for k, v in d.items()) + f"  \npreset: {eng.preset}"
+
+
