@@ -17,6 +17,9 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
                     help="interface to bind (default 127.0.0.1; anything else exposes the explorer to the network)")
     ap.add_argument("--port", type=int, default=8080, help="port (default 8080; 0 = any free port)")
     ap.add_argument("--scenario", metavar="FILE.toml", help="open on this scenario instead of the default scene")
+    ap.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                    help="also accept browser connections from pages at ORIGIN (e.g. http://example.org); by "
+                    "default only the explorer's own page may connect, so other sites cannot drive it")
     ap.add_argument("--mesh", metavar="FILE", help="draw the body as this closed mesh (STL, OBJ, PLY, GLB...); its "
                     "inertia, as a uniform solid of the scenario's mass M, replaces A, B, C")
     return ap.parse_args(argv)
@@ -25,12 +28,18 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
 def main(argv: list[str] | None = None) -> int:
     args = parse(argv)
     start = time.perf_counter()
+    if not args.host.strip():
+        print("error: --host '' names no interface; give one (default 127.0.0.1, loopback)", file=sys.stderr)
+        return 2
     if args.host not in LOOPBACK:
         print(f"warning: --host {args.host} makes the explorer reachable from other machines; it has no "
               "authentication", file=sys.stderr, flush=True)
     print("Quasirigid explorer: starting the server...", flush=True)
     import viser  # the web server first, so a browser loads the page while the physics loads
 
+    from .guard import configure
+
+    configure(args.host, tuple(args.allow_origin))  # same-origin browsers and this host's name only
     server = viser.ViserServer(host=args.host, port=args.port, label="Quasirigid")
     shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
     url = f"http://{shown}:{server.get_port()}"

@@ -30,6 +30,10 @@ class App:
         self.mesh = mesh
         # a tab's last frame can race its disconnection; viser then warns that the message is dropped
         warnings.filterwarnings("ignore", message="Queued a .* on a closed connection")
+        if server is None:
+            from .guard import configure
+
+            configure(host)  # before the server starts: same-origin browsers and this host's name only
         self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
         self.sessions: dict[int, Session] = {}
         self.stats: dict = {}

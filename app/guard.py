@@ -1,0 +1,82 @@
+"""Who may talk to the explorer. A web page the user visits in another tab can open a websocket to any
+local port, and a page on a hostile domain can rebind its name to 127.0.0.1 (DNS rebinding); viser accepts
+both. So every HTTP request and websocket handshake is checked before viser sees it:
+
+- the Host header must name the address the server is bound to (for a loopback bind: 127.0.0.1,
+  localhost or [::1], with the bound port), unless the server was bound to every interface on purpose;
+- a browser's Origin header, when present, must be the same origin as the page (http://HOST:PORT with the
+  Host above), or one the user allowed with ``--allow-origin``. Clients that are not browsers send no
+  Origin (the bench's websocket clients); they cannot be driven by another site, so they pass.
+
+viser builds its websockets server inside a closure, so the check is installed by wrapping
+``websockets.asyncio.server.serve`` once, in this process, before the server starts.
+"""
+
+from __future__ import annotations
+
+import http
+import threading
+
+LOOPBACK_NAMES = ("127.0.0.1", "localhost", "[::1]", "::1")
+EVERY_INTERFACE = ("0.0.0.0", "::", "[::]")
+
+_lock = threading.Lock()
+_policy: dict = {"host": "127.0.0.1", "origins": ()}
+_installed = False
+
+
+def configure(host: str, allow_origins: tuple[str, ...] = ()) -> None:
+    """The bound host and the extra origins to accept, for servers started from now on."""
+    with _lock:
+        _policy["host"] = host
+        _policy["origins"] = tuple(o.rstrip("/").lower() for o in allow_origins)
+    install()
+
+
+def refusal(headers, port: int, host: str | None = None, origins: tuple[str, ...] | None = None) -> str | None:
+    """Why a request with these headers, arriving on ``port``, is refused; None when it is accepted."""
+    host = _policy["host"] if host is None else host
+    origins = _policy["origins"] if origins is None else origins
+    given = (headers.get("Host") or "").strip().lower()
+    if host not in EVERY_INTERFACE:
+        names = LOOPBACK_NAMES if host in LOOPBACK_NAMES else (host.lower(), f"[{host.lower()}]")
+        allowed = {f"{n}:{port}" for n in names}
+        if given not in allowed:
+            return f"Host header {given[:80]!r} is not this server's address ({sorted(allowed)[0]})"
+    origin = headers.get("Origin")
+    if origin is None:
+        return None  # not a browser: no other site can drive it
+    origin = origin.strip().rstrip("/").lower()
+    if origin == f"http://{given}" or origin in origins:
+        return None
+    return (f"Origin {origin[:80]!r} is not this page's origin (http://{given[:80]}); start the explorer with "
+            "--allow-origin ORIGIN to accept another")
+
+
+def install() -> None:
+    """Wrap websockets' server factory so that every server made afterwards checks requests first."""
+    global _installed
+    with _lock:
+        if _installed:
+            return
+        import websockets.asyncio.server as ws_server
+        from websockets.datastructures import Headers
+        from websockets.http11 import Response
+
+        original = ws_server.serve
+
+        def serve(handler, *args, process_request=None, **kwargs):
+            def checked(connection, request):
+                port = connection.local_address[1] if connection.local_address else 0
+                why = refusal(request.headers, port)
+                if why is not None:
+                    body = f"refused: {why}\n".encode()
+                    return Response(http.HTTPStatus.FORBIDDEN, "Forbidden",
+                                    Headers({"Content-Type": "text/plain; charset=utf-8",
+                                             "Content-Length": str(len(body))}), body)
+                return process_request(connection, request) if process_request is not None else None
+
+            return original(handler, *args, process_request=checked, **kwargs)
+
+        ws_server.serve = serve
+        _installed = True
