@@ -19,6 +19,7 @@ from .clock import FRAME_HZ
 from .drawing import Drawing
 from .engine import Engine
 from .panel import Panel
+from .upload import cap_streamed_uploads
 
 CROWD = 4  # tabs on one server beyond which each gets CROWD_HZ frames per second instead of FRAME_HZ
 CROWD_HZ = 40.0  # still smooth, and ten tabs fit one core's worth of Python (docs/reliability.md)
@@ -44,9 +45,13 @@ class Session:
         self.first_frame_after: dict[int, float] = {}  # change seq -> latency (s) of its first frame
         self.frame_ms: deque = deque(maxlen=600)  # (tick, publish) wall ms of recent frames
         self.panel = Panel(client, self.engine)
+        cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
         self.drawing = Drawing(client, self.engine)
         self.thread = threading.Thread(target=self._loop, name=f"session-{client.client_id}", daemon=True)
         self.thread.start()
+
+    def _refuse_upload(self, message: str) -> None:
+        self.engine.error = message  # shown beside the upload button's panel as any rejection is
 
     def _publish(self, fr, plots_now: bool) -> None:
         with self.client.atomic():

@@ -1,0 +1,109 @@
+"""The upload cap holds while the parts arrive (issue 17): a raw websocket client that announces or sends
+more than MAX_UPLOAD_BYTES gets refused, and the server does not buffer what it sends; a small scenario
+sent the same way still loads. The client speaks viser's wire format (msgpack), as bench/load.py does."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from pathlib import Path
+
+import msgspec
+import pytest
+import viser
+from websockets.asyncio.client import connect
+
+from app.upload import MAX_UPLOAD_BYTES
+
+ROOT = Path(__file__).resolve().parents[1]
+PART = 1_000_000  # bytes a part: viser's browser client sends parts of about this size
+
+
+def _msg(**fields) -> bytes:
+    return msgspec.msgpack.encode(fields)
+
+
+@pytest.fixture(scope="module")
+def app():
+    from app.server import App
+
+    a = App(port=0)
+    yield a
+    a.close()
+
+
+def _session(app, deadline_s: float = 60.0):
+    end = time.monotonic() + deadline_s
+    while not app.sessions and time.monotonic() < end:
+        time.sleep(0.05)
+    assert app.sessions, "no session was built for the raw client"
+    return next(iter(app.sessions.values()))
+
+
+def _send(app, messages_of) -> object:
+    """Connect, let the session build, send what ``messages_of(session)`` gives, wait a little; the session."""
+    holder = {}
+
+    async def go():
+        async with connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
+                           max_size=None, compression=None, open_timeout=60) as ws:
+            await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
+                               fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
+                               look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
+            session = await asyncio.to_thread(_session, app)
+            holder["session"] = session
+            for m in messages_of(session):
+                await ws.send(m)
+            await asyncio.sleep(1.0)
+            holder["buffered"] = dict(session.client.gui._current_file_upload_states)
+            holder["error"] = session.engine.error
+            holder["preset"] = session.engine.preset
+
+    asyncio.run(go())
+    return holder
+
+
+def _upload_uuid(session) -> str:
+    return session.panel.upload._impl.uuid
+
+
+def test_an_announced_size_over_the_cap_is_refused_before_any_part(app):
+    def messages(session):
+        uuid = _upload_uuid(session)
+        yield _msg(type="FileTransferStartUpload", source_component_uuid=uuid, transfer_uuid="big", filename="x.toml",
+                   mime_type="application/toml", part_count=600, size_bytes=600 * PART)
+        for i in range(5):
+            yield _msg(type="FileTransferPart", source_component_uuid=uuid, transfer_uuid="big", part_index=i,
+                       content=b"#" * PART)
+
+    out = _send(app, messages)
+    assert out["buffered"] == {}  # nothing of the 5 MB sent is held
+    assert f"at most {MAX_UPLOAD_BYTES} bytes" in out["error"] and "600000000 bytes" in out["error"]
+
+
+def test_a_client_that_lies_about_its_size_is_cut_off(app):
+    def messages(session):
+        uuid = _upload_uuid(session)
+        yield _msg(type="FileTransferStartUpload", source_component_uuid=uuid, transfer_uuid="liar", filename="x.toml",
+                   mime_type="application/toml", part_count=50, size_bytes=1000)
+        for i in range(3):
+            yield _msg(type="FileTransferPart", source_component_uuid=uuid, transfer_uuid="liar", part_index=i,
+                       content=b"#" * PART)
+
+    out = _send(app, messages)
+    assert out["buffered"] == {}
+    assert "more than" in out["error"] and "dropped" in out["error"]
+
+
+def test_a_small_scenario_sent_the_same_way_loads(app):
+    content = (ROOT / "assets" / "scenarios" / "oblate_settling.toml").read_bytes()
+
+    def messages(session):
+        uuid = _upload_uuid(session)
+        yield _msg(type="FileTransferStartUpload", source_component_uuid=uuid, transfer_uuid="ok", filename="o.toml",
+                   mime_type="application/toml", part_count=1, size_bytes=len(content))
+        yield _msg(type="FileTransferPart", source_component_uuid=uuid, transfer_uuid="ok", part_index=0,
+                   content=content)
+
+    out = _send(app, messages)
+    assert out["preset"] == "upload o.toml" and out["error"] == ""
