@@ -37,7 +37,10 @@ def test_recommendation_is_the_cheapest_that_meets_the_request(sweep):
     assert res.tolerance == ACCURACY and "run.accuracy" in res.tolerance_source
     best = res.recommended
     assert best is not None and best.error <= ACCURACY
-    assert all(r.wall_s >= best.wall_s for r in res.rows if r.error <= ACCURACY)
+    # not wasteful: no setting that meets the request does the work with less than half the evaluations
+    # (the choice is made on wall time, so this checks it against a count it never looked at)
+    assert all(r.nfev >= best.nfev / 2 for r in res.rows if r.error <= ACCURACY), \
+        [(r.label, r.nfev, r.error) for r in res.rows]
     # applied to the scene and run again on the sweep's horizon, it still meets the request
     applied = res.apply(sc)
     assert applied.run.method == best.method
@@ -52,7 +55,10 @@ def test_without_accuracy_the_scene_own_setting_is_the_bar():
     res = physics.work_precision(sc)
     own = [r for r in res.rows if r.method == "auto" and r.setting == 1e-8]
     assert own and res.tolerance == max(own[0].error, 1e-11)
-    assert res.recommended is not None and res.recommended.wall_s <= own[0].wall_s
+    # the recommendation meets the scene's own accuracy at no more than the scene's own work (in evaluations,
+    # which the choice, made on wall time, never looked at; twice as much is the margin for timing noise)
+    assert res.recommended is not None and res.recommended.error <= res.tolerance
+    assert res.recommended.nfev <= 2 * own[0].nfev
 
 
 def test_cancel_stops_between_runs():
