@@ -43,9 +43,13 @@ def main(argv: list[str] | None = None) -> int:
     server = viser.ViserServer(host=args.host, port=args.port, label="Quasirigid")
     shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
     url = f"http://{shown}:{server.get_port()}"
-    print(f"serving {url}; loading the physics and preparing the integrator (compiled once per machine, then "
-          "cached)...", flush=True)
+    print(f"serving {url}; loading the physics...", flush=True)
     import physics
+
+    # compiles the integrator in a child process on a machine that has not yet; the tabs step interpreted meanwhile
+    if physics.build_kernels().state == "pending":
+        print("preparing the fast integrator in the background (once per machine); the scene runs meanwhile",
+              flush=True)
 
     scenario = mesh = None
     try:

@@ -37,19 +37,19 @@ ALL = (MM, SP, PL)
 PENDULA = (SP, PL)
 
 PARAMS: tuple[Param, ...] = (
-    # seed 004's six
-    Param("mass.m", "m", "kg", "moving point mass m (seed 004 eq. (4)); must stay below the total mass M", 0.0, 1.0,
-          0.001),
-    Param("mass.rho", "rho", "m", "distance from the system COM O to the mass's rest point O1 on the symmetry axis",
-          0.0, 3.0, 0.01),
-    Param("mass.Omega", "Omega", "rad/s", "natural frequency of the mass on its spring, Omega^2 = c/m", 0.5, 60.0,
-          0.1),
-    Param("mass.chi", "chi", "1/s", "damping of the mass's spring, chi = delta/m (seed 000 calls it v)", 0.0, 60.0,
-          0.1),
-    Param("medium.lambda", "lambda", "1/s", "linear resistance of the medium, torque -lambda J* w (seed 004 eq. (2));"
-          " 0 = no medium", 0.0, 0.01, 1e-5),
-    Param("control.b", "b", "N m", "bound of the braking torque -b K/|K| (seed 004 eq. (8)); 0 = no braking; "
-          "braking time T = ln(1 + G0 lambda/b)/lambda", 0.0, 0.02, 1e-5),
+    # the six of the braking paper (MODELS.md A.1): the moving mass, the medium and the brake
+    Param("mass.m", "m", "kg", "mass of the small body moving inside on a spring-damper; 0 = none; must stay below "
+          "the total mass M", 0.0, 1.0, 0.001),
+    Param("mass.rho", "rho", "m", "distance from the centre of mass to the moving mass's rest point, on the "
+          "symmetry axis", 0.0, 3.0, 0.01),
+    Param("mass.Omega", "Omega", "rad/s", "natural frequency of the mass on its spring (Omega^2 = stiffness / m): "
+          "a stiffer spring, a higher Omega", 0.5, 60.0, 0.1),
+    Param("mass.chi", "chi", "1/s", "damping of the mass's spring: damper force per unit mass and speed "
+          "(chi = delta/m); it turns the wobble into heat", 0.0, 60.0, 0.1),
+    Param("medium.lambda", "lambda", "1/s", "resistance of the surrounding medium: a torque -lambda J* w against "
+          "the rotation; 0 = no medium", 0.0, 0.01, 1e-5),
+    Param("control.b", "b", "N m", "strength of the braking torque, always against K; 0 = no braking; the readout T "
+          "shows when it stops the spin", 0.0, 0.02, 1e-5),
     # the body
     Param("body.A", "A", "kg m^2", "equatorial principal moment of the frozen system (carrier + parts at rest)", 0.1,
           5.0, 0.01, ALL),
@@ -57,8 +57,8 @@ PARAMS: tuple[Param, ...] = (
     Param("body.C", "C", "kg m^2", "axial moment; C > A oblate (settles to spin), C < A prolate (flat spin)", 0.1,
           5.0, 0.01, ALL),
     Param("body.M", "M", "kg", "total mass of the system", 0.1, 20.0, 0.1, ALL),
-    Param("mass.lam_q", "lam_q", "1/m", "quadratic friction of the mass, force -m lam_q |u'| u' (seed 000 (1.1))",
-          0.0, 20000.0, 10.0),
+    Param("mass.lam_q", "lam_q", "1/m", "drag-like friction of the mass, growing with the square of its speed: "
+          "force -m lam_q |u'| u'", 0.0, 20000.0, 10.0),
     # the cavity
     Param("cavity.beta", "beta", "kg/m^3", "density of the fluid in the spherical cavity; 0 = no cavity", 0.0,
           2000.0, 1.0),
@@ -66,7 +66,7 @@ PARAMS: tuple[Param, ...] = (
           0.1, 100.0, 0.1),
     Param("cavity.a0", "a0", "m", "radius of the spherical cavity", 0.01, 0.5, 0.005),
     # the pendulum dampers
-    Param("pendulum.m", "bob m", "kg", "pendulum bob mass (seed 002)", 0.001, 0.3, 0.001, PENDULA),
+    Param("pendulum.m", "bob m", "kg", "mass of each pendulum bob", 0.001, 0.3, 0.001, PENDULA),
     Param("pendulum.l", "arm l", "m", "pendulum arm length from pivot to bob", 0.01, 1.0, 0.005, PENDULA),
     Param("pendulum.h", "pivot h", "m", "height of the spherical pendulum's pivot above O on the spin axis", -1.0,
           1.0, 0.01, (SP,)),
@@ -74,9 +74,11 @@ PARAMS: tuple[Param, ...] = (
           "free nutation", 0.0, 2.0, 0.001, PENDULA),
     Param("pendulum.c_d", "damper c_d", "N m s/rad", "pivot damper", 0.0, 0.2, 0.0005, PENDULA),
     # the initial state
-    Param("initial.G0", "G0", "kg m^2/s", "initial |J* w|; changing it restarts the run", 0.1, 10.0, 0.01, ALL),
-    Param("initial.theta0", "theta0", "rad", "initial nutation angle between K and e3; changing it restarts", 0.0,
-          3.14, 0.01, ALL),
+    Param("initial.G0", "G0", "kg m^2/s", "initial angular momentum of the body frozen with its parts at rest, "
+          "|J* w0| (the readout |K| adds what the moving parts carry); it defines the start, so changing it "
+          "restarts the run from t = 0", 0.1, 10.0, 0.01, ALL),
+    Param("initial.theta0", "theta0", "rad", "initial nutation angle between K and e3; it defines the start, "
+          "so changing it restarts from t = 0", 0.0, 3.14, 0.01, ALL),
 )
 BY_KEY = {p.key: p for p in PARAMS}
 SIX = ("mass.m", "mass.rho", "mass.Omega", "mass.chi", "medium.lambda", "control.b")
@@ -115,8 +117,10 @@ def _stiffness(sc: physics.Scenario, bob) -> float:
     """A bob's spring k; a tuned one ("resonant", "optimal") as physics resolves it."""
     if bob is None:
         return 0.0
-    if isinstance(bob.k, str):
-        return float(physics.derived(sc)["k"])
+    if isinstance(bob.k, str):  # resolved cheaply: this runs on the tab's loop thread after every change
+        ks = physics.resolved_stiffness(sc)
+        i = 0 if sc.pendulum is not None else sc.plane_pendulums.index(bob)
+        return ks[i]
     return bob.k
 
 
@@ -222,8 +226,9 @@ def fmt(x: float, digits: int = 4) -> str:
 
 SYSTEM_LABELS = {"moving mass": MM, "spherical pendulum": SP, "plane pendulums": PL}
 FIDELITIES = ("auto", "full", "averaged", "closed")
-FOLDERS = (("Seed 004: mass, medium, braking", SIX), ("Body inertia", ("body.A", "body.B", "body.C", "body.M")),
-           ("Friction and cavity", ("mass.lam_q", "cavity.beta", "cavity.nu", "cavity.a0")),
+MASS_FOLDER, FRICTION_FOLDER = "Moving mass, medium, braking", "Friction and cavity"  # moving-mass scenes only
+FOLDERS = ((MASS_FOLDER, SIX), ("Body inertia", ("body.A", "body.B", "body.C", "body.M")),
+           (FRICTION_FOLDER, ("mass.lam_q", "cavity.beta", "cavity.nu", "cavity.a0")),
            ("Pendulum damper", ("pendulum.m", "pendulum.l", "pendulum.h", "pendulum.k", "pendulum.c_d")),
            ("Initial state", ("initial.G0", "initial.theta0")))
 
@@ -232,7 +237,7 @@ def build_sliders(gui, values: dict[str, float]) -> tuple[dict, dict]:
     """Folders of sliders; returns (key -> slider handle, folder title -> folder handle)."""
     sliders, folders = {}, {}
     for title, keys in FOLDERS:
-        with gui.add_folder(title, expand_by_default=title.startswith("Seed")) as folder:
+        with gui.add_folder(title, expand_by_default=title == MASS_FOLDER) as folder:
             folders[title] = folder
             for key in keys:
                 p = BY_KEY[key]

@@ -9,13 +9,13 @@ import numpy as np
 import viser
 
 from .engine import Engine
+from .labels import label_groups
+from .legend import COLORS, LegendView, parts_of
+from .mass_view import factor_label
 from .panel import _set
 from .scene import box_mesh, cylinder_mesh, trail_segments
 
-COLORS = {"body": (120, 150, 200), "ellipsoid": (240, 200, 80), "mass": (220, 40, 40), "rest": (60, 60, 60),
-          "spring": (40, 40, 40), "K": (30, 160, 60), "omega": (40, 90, 230), "axis": (120, 120, 120),
-          "torque": (220, 60, 200), "trail": (230, 120, 20), "polhode": (150, 40, 200), "bob": (200, 30, 30),
-          "cavity": (60, 160, 230)}
+ARROWS = ("K", "omega", "e3", "torque")  # the arrows' order in the arrows node, and in a merged label
 SCENE_SIZE = 1.5  # scene units the body spans, whatever its size in metres
 
 
@@ -25,6 +25,7 @@ class Drawing:
     def __init__(self, client: viser.ClientHandle, engine: Engine):
         self.client = client
         self.engine = engine
+        self.legend = LegendView(client.gui)  # what each arrow, line, trail and ball is (app.legend)
         self._build_scene()
 
     def _build_scene(self) -> None:
@@ -69,7 +70,11 @@ class Drawing:
         self.handles["shape"] = sc.add_mesh_simple(f"{r}/body/shape", np.asarray(vertices) * k, faces,
                                                    color=COLORS["body"], opacity=0.45, flat_shading=False)
         self.handles["ellipsoid"] = sc.add_icosphere(f"{r}/body/ellipsoid", radius=1.0, color=COLORS["ellipsoid"],
-                                                     scale=tuple(eng.ellipsoid() * k), opacity=0.15, subdivisions=3)
+                                                     scale=tuple(eng.ellipsoid() * k), opacity=0.15, subdivisions=3,
+                                                     side="back")
+        # back faces only: a translucent shell still writes depth, and three.js sorts translucent nodes by
+        # their bounding spheres' centres, so a mesh whose centre is off the origin (the satellite's dish) was
+        # drawn after the ellipsoid's near face and hidden behind it; the far face hides nothing inside
         scn = eng.scenario
         if scn.cavity is not None:
             self.handles["cavity"] = sc.add_icosphere(f"{r}/body/cavity", radius=max(scn.cavity.a0 * k, 0.03 * s),
@@ -80,18 +85,21 @@ class Drawing:
             self.handles["mass"] = sc.add_icosphere(f"{r}/body/mass", radius=0.05 * s, color=COLORS["mass"])
             self.handles["spring"] = sc.add_line_segments(f"{r}/body/spring", np.zeros((1, 2, 3)), COLORS["spring"],
                                                           thickness=0.008 * s)
-            self.handles["exag"] = sc.add_label(f"{r}/body/exag_label", "u x 10",
+            self.handles["exag"] = sc.add_label(f"{r}/body/exag_label", factor_label(eng.exaggeration, False),
                                                 position=(0.0, 0.0, scn.mass.rho * k + 0.1 * s))
+            self.handles["mount"] = sc.add_line_segments(  # the rest point is part of the body, however far out
+                f"{r}/body/mount", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, scn.mass.rho * k]]]), COLORS["mount"],
+                thickness=0.006 * s)
         for i, _ in enumerate(eng.frame().bobs):
-            self.handles[f"arm{i}"] = sc.add_line_segments(f"{r}/body/arm{i}", np.zeros((1, 2, 3)), (30, 30, 30),
+            self.handles[f"arm{i}"] = sc.add_line_segments(f"{r}/body/arm{i}", np.zeros((1, 2, 3)), COLORS["arm"],
                                                            thickness=0.012 * s)
             self.handles[f"bob{i}"] = sc.add_icosphere(f"{r}/body/bob{i}", radius=0.04 * s, color=COLORS["bob"])
         arrows = np.zeros((4, 2, 3))
         colors = np.array([COLORS["K"], COLORS["omega"], COLORS["axis"], COLORS["torque"]], dtype=np.uint8)
         self.handles["arrows"] = sc.add_arrows(f"{r}/arrows", arrows, colors, shaft_radius=0.012 * s,
                                                head_radius=0.035 * s, head_length=0.08 * s)
-        self.handles["labels"] = [sc.add_label(f"{r}/lab_{n}", n, font_screen_scale=0.8)
-                                  for n in ("K", "omega", "e3", "torque")]
+        self.handles["labels"] = [sc.add_label(f"{r}/lab_{n}", n, font_screen_scale=0.8, anchor="bottom-left")
+                                  for n in ARROWS]  # slots: a merged label uses the first, the rest hide
         self.handles["trail"] = sc.add_line_segments(f"{r}/trail", np.zeros((1, 2, 3)), COLORS["trail"],
                                                      thickness=0.003 * s)
         self.handles["polhode"] = sc.add_line_segments(f"{r}/body/polhode", np.zeros((1, 2, 3)), COLORS["polhode"],
@@ -114,13 +122,20 @@ class Drawing:
         vecs.append(k * fr.torque_vec if fr.torque_vec is not None else origin)
         h["arrows"].points = np.array([[origin, v] for v in vecs])
         if plots_now:  # labels and trails change slowly: at the plots' rate, not every frame
-            for lab, v in zip(h["labels"], vecs, strict=True):
-                lab.position = tuple(1.08 * v)
-                _set(lab, "visible", bool(np.linalg.norm(v) > 0))
+            groups = label_groups(dict(zip(ARROWS, vecs, strict=True)), SCENE_SIZE)  # "K, omega, e3" when aligned
+            for i, lab in enumerate(h["labels"]):
+                if i < len(groups):
+                    _set(lab, "text", groups[i][0])
+                    lab.position = tuple(groups[i][1])
+                _set(lab, "visible", i < len(groups))
+            self.legend.show(parts_of(eng.scenario, view=eng.view, polhode=fr.polhode is not None,
+                                      mesh=eng.mesh.name if eng.mesh is not None else None,
+                                      exaggeration=eng.exaggeration, mass_moves="ux" in eng.run.last.internal,
+                                      braking=fr.torque_vec is not None))
         if fr.mass_pos is not None and "mass" in h:
             h["mass"].position = tuple(k * fr.mass_pos)
             h["spring"].points = k * np.array([[fr.mass_rest, fr.mass_pos]])
-            h["exag"].text = f"u x {eng.exaggeration:g}"
+            _set(h["exag"], "text", factor_label(eng.exaggeration, fr.mass_capped))
         for i, (pivot, bob) in enumerate(fr.bobs):
             if f"bob{i}" in h:
                 h[f"bob{i}"].position = tuple(k * bob)

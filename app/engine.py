@@ -3,15 +3,14 @@ and trails read. No viser here: headless tests drive it directly.
 
 Threads: GUI callbacks call ``request_value`` and ``request``, which only record under a lock; the
 session's loop thread calls ``tick``, which applies them (each action through ``ACTIONS``) and advances
-the run as far as the clock (``app.clock``) allows. The frame (``app.frame``) and the background workers
-(``app.workers``: overlay and badge) are mixed in.
+the run as far as the clock (``app.clock``) allows. Mixed in: the actions (``app.actions``), what the
+panel reads out and exports (``app.output``), the frame (``app.frame``) and the background workers
+(``app.workers``: overlay and badge).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import io
-import math
 import threading
 import time
 
@@ -19,20 +18,31 @@ import numpy as np
 
 import physics
 
-from . import controls, presets
+from . import controls, edits, presets
+from .actions import ActionsMixin, with_fidelity
+from .buffers import (
+    EDITS_LISTED,
+    HISTORY_ROWS,
+    PLOT_POINTS,
+    RECENT,
+    SAMPLES_PER_FRAME,
+    TRAIL_POINTS,
+    VIEWS,
+    WHOLE_RUN,
+    WHOLE_RUN_POINTS,
+)
 from .clock import DEFAULT_WARP, FRAME_HZ, Clock
 from .frame import Frame, FrameMixin
+from .history import DecimatingStore
+from .mass_view import default_exaggeration
+from .output import OutputMixin
 from .scene import E3, Ring, Shape, align, body_shape
+from .trail import split_advance, thinned
+from .trail import turn_period as cone_turn_period
 from .workers import BadgeMixin, OverlayMixin
 
-SAMPLES_PER_FRAME = 4  # plot and trail rows per published frame
-PLOT_POINTS = 1500  # plot window (ring buffer rows)
-TRAIL_POINTS = 1200
-HISTORY_ROWS = 20000  # trajectory rows kept for the CSV export
-VIEWS = ("inertial", "body")
 
-
-class Engine(OverlayMixin, BadgeMixin, FrameMixin):
+class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
     """The simulation of one tab."""
 
     def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
@@ -42,6 +52,7 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         self.change_seq = 0  # bumped by every GUI change
         self.applied_seq = 0  # the last change applied by tick
         self.change_times: dict[int, float] = {}
+        self.value_requested_at = float("-inf")  # time.monotonic() of the last slider value requested
         self.playing = True
         self.restart_on_change = False
         self.view = "inertial"
@@ -51,13 +62,16 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         self._init_badge()
         self._init_overlay()
         self.error = ""
+        self.guard = edits.Guard()  # typed values judged, notes beside sliders, undo (app.edits)
         self.clock = Clock()
+        self._last_frame: Frame | None = None  # shown again, as a fault, if a state cannot be observed
         self.frames = 0
         self.seq = 0
         self.wall_total = 0.0  # wall seconds spent in advance()
         self.scene_changed = True  # the session redraws the static parts (shape, parts) when set
         self.sliders_changed = True  # the session pushes slider values/ranges when set
         self.plots_changed = True
+        self.plot_span = WHOLE_RUN
         self.mesh = mesh  # app.mesh.BodyMesh drawn instead of the uniform shape, until a preset is loaded
         name = "from file" if scenario is not None else preset
         if mesh is not None:
@@ -65,12 +79,17 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         self._load(scenario or presets.load_preset(preset), name)
 
     # ---- requests from GUI callbacks (any thread) -------------------------------------------
-    def request_value(self, key: str, value) -> int:
-        """A slider's new value. Pendulum sliders edit the bob chosen with the "bob" action."""
+    def request_value(self, key: str, value, limits: tuple[float, float] | None = None) -> int:
+        """A slider's new value; ``limits``: the slider's (min, max) then (app.edits clamps a value beyond them
+        and drops the browser's clamp echo). Pendulum sliders edit the bob chosen with the "bob" action."""
+        slider = key
         if key.startswith("pendulum.") and self.bob is not None and self.scenario.system == "plane_pendulums":
             key = f"{key}#{self.bob}"
         with self._lock:
+            if not self.guard.received(slider, value, limits):
+                return self.change_seq  # the browser's own clamp of a value just judged: not the user's
             self._pending[key] = value
+            self.value_requested_at = time.monotonic()  # app.playbar drops a keyed step a focused slider took
             return self._bump()
 
     def request(self, action: str, value=None) -> int:
@@ -91,6 +110,7 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
     # ---- loading ---------------------------------------------------------------------------
     def _load(self, sc: physics.Scenario, name: str) -> None:
         run = physics.LiveRun(sc)  # raises ScenarioError before anything changes
+        self.guard.forget(sc, name)
         self.base = sc
         self.preset = name
         self.changes: dict = {}
@@ -100,14 +120,26 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         self.clock.warp = DEFAULT_WARP if name == presets.DEFAULT else presets.suggested_warp(sc)
         self.fidelity_choice = sc.run.fidelity
         self._restarted()
+        self.exaggeration = self.default_exaggeration()  # the panel's slider follows (sliders_changed)
+
+    def default_exaggeration(self) -> float:
+        """The factor the mass's displacement is drawn with for this scene: a fraction of the body (app.mass_view)."""
+        m = self.scenario.mass
+        if m is None:
+            return self.exaggeration
+        return default_exaggeration(self.shape.extent, m.rho, m.Omega, float(np.linalg.norm(self.run.last.omega[0])))
 
     def _restarted(self) -> None:
         """Buffers and reference directions for a run that starts now (or was retuned)."""
         self.plot = Ring(PLOT_POINTS, 4)
         self.trail = Ring(TRAIL_POINTS, 3)
         self.polhode = Ring(TRAIL_POINTS, 3)
-        self.history = Ring(HISTORY_ROWS, len(self.run.last.columns))
+        self.plot_all = DecimatingStore(WHOLE_RUN_POINTS, 4)
+        self.history = DecimatingStore(HISTORY_ROWS, len(self.run.last.columns))
         self.history_columns = self.run.last.columns
+        self.start_scenario = self.scenario  # what the run began from at t = 0 (the overlay predicts from it)
+        self.edits: list[tuple[float, str]] = []  # (t, what) of the first changes the run went on through
+        self.edit_count = 0
         self.shape = self._shape(self.scenario)
         K0 = self.momentum()
         self.world_wxyz = align(K0, E3) if np.linalg.norm(K0) > 0 else np.array([1.0, 0, 0, 0])
@@ -117,8 +149,11 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         self.overlay = None
         self.overlay_dirty = True
         self.clock.restart()
+        self.guard.epoch += 1  # buffers start anew: an undo to before this cannot rewind them
         self.scene_changed = self.sliders_changed = self.plots_changed = True
         self._drawn = None
+        self.edit_dE: float | None = None  # what the last edit did to E (J), shown until the next edit or reset
+        self.edit_note = ""  # why the last edit could not keep the state
 
     def static_signature(self) -> tuple:
         """What the static meshes depend on; the session redraws them when it changes."""
@@ -139,6 +174,12 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
     def scenario(self) -> physics.Scenario:
         return self.run.scenario
 
+    @property
+    def edited(self) -> bool:
+        """Whether the scene differs from the preset loaded (a slider, tuning, the fidelity): the panel
+        then names the preset "(edited)", so choosing the preset again is a change that reloads it."""
+        return bool(self.changes) or self.fidelity_choice != self.base.run.fidelity
+
     # ---- applying changes (loop thread) -----------------------------------------------------
     def _apply_pending(self) -> None:
         with self._lock:
@@ -148,8 +189,8 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         try:
             for action, value in actions:
                 self._act(action, value)
-            if pending:
-                self._apply_values(pending)
+                self.guard.interrupt()  # a value after an action starts a new change
+            self._apply_guarded(pending)
             if actions or pending:
                 self.clock.changed()
         except physics.ScenarioError as exc:
@@ -158,10 +199,30 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
             self.error = f"{type(exc).__name__}: {exc}"
         self.applied_seq = seq
 
+    def _apply_guarded(self, pending: dict) -> None:
+        """Slider values through the guard (app.edits): a value physics rejects is not applied and its
+        slider goes back to the last good value, one beyond the slider's range is clamped; each change is
+        saved for undo first."""
+        guard = self.guard
+        for key in guard.take_dropped():  # the browser shows a clamp echo that was not applied: set it back
+            guard.revert[key] = self.values[key]
+        if not pending:
+            return
+        accepted = guard.screen(self.base, self.changes, pending, self.values)
+        if accepted:
+            saved = guard.before_change(accepted, self)
+            try:
+                self._apply_values(accepted)
+            except Exception as exc:
+                guard.failed(accepted, saved, self.values, exc)
+                raise
+        if guard.rejections:
+            self.error = guard.rejections[-1]  # shown beside the slider (the panel omits it at the top)
+
     def _apply_values(self, pending: dict) -> None:
         changes = controls.merge_changes(self.changes, pending)
         sc = controls.apply_changes(self.base, changes)  # ScenarioError leaves everything as it was
-        sc = sc.replace(run=_with_fidelity(sc.run, self.fidelity_choice))
+        sc = sc.replace(run=with_fidelity(sc.run, self.fidelity_choice))
         restart = self.restart_on_change or controls.restarts(pending)
         kept = self.run.retune(sc, keep_state=not restart)
         self.changes = changes
@@ -177,120 +238,21 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         if self.static_signature() != self._drawn:
             self.scene_changed = True  # redraw the meshes only when what they show has changed
         self.overlay_dirty = True
+        if kept:  # the run goes on under other parameters: the plots and the export say so
+            self.edit_count += 1
+            if len(self.edits) < EDITS_LISTED:
+                self.edits.append((self.run.t, _edit_names(pending)))
         if not kept:
             self._restarted()
+        self._note_edit(kept)
 
-    # ---- actions (loop thread): one handler each, looked up in ACTIONS ----------------------------
-    def _act(self, action: str, value) -> None:
-        handler = ACTIONS.get(action)
-        if handler is None:
-            raise ValueError(f"unknown action {action!r}")
-        handler(self, value)
-
-    def _play(self, _value) -> None:
-        self.playing = True
-
-    def _pause(self, _value) -> None:
-        self.playing = False
-
-    def _step(self, _value) -> None:
-        self.playing = False
-        self._advance(self.warp / FRAME_HZ)
-
-    def _reset(self, _value) -> None:
-        self.run.reset()
-        self.error = ""
-        self._restarted()
-
-    def _set_warp(self, value) -> None:
-        self.clock.set_warp(float(value))
-
-    def _preset(self, value) -> None:
-        sc = presets.load_preset(value)
-        self.mesh = None  # a preset brings its own body
-        self._load(sc, value)
-        self.error = ""
-
-    def _system(self, value) -> None:
-        if value != self.scenario.system:
-            name = next(n for n in presets.preset_names() if presets.load_preset(n).system == value)
-            self.mesh = None
-            self._load(presets.load_preset(name), name)
-            self.error = ""
-
-    def _fidelity(self, value) -> None:
-        sc = self.scenario.replace(run=_with_fidelity(self.scenario.run, value))
-        self.run.retune(sc, keep_state=False)
-        self.fidelity_choice = value
-        self.error = ""
-        self._restarted()
-
-    def _restart_on_change(self, value) -> None:
-        self.restart_on_change = bool(value)
-
-    def _view(self, value) -> None:
-        self.view = value if value in VIEWS else "inertial"
-        self.trail.clear()  # the trail means something else in the other frame
-        self.scene_changed = True
-
-    def _exaggeration(self, value) -> None:
-        self.exaggeration = float(value)
-
-    def _overlay(self, value) -> None:
-        self.overlay_fidelity = value
-        self.overlay_dirty = True
-        self.plots_changed = True
-
-    def _tune(self, _value) -> None:
-        self._apply_values({"pendulum.k": "resonant"})
-
-    def _bob(self, value) -> None:
-        n = len(self.scenario.plane_pendulums)
-        self.bob = None if value in (None, "all") or n == 0 else min(max(int(value), 0), n - 1)
-        self.values.update({k: v for k, v in controls.values_of(self.scenario, self.bob).items()
-                            if k.startswith("pendulum.")})
-        self.sliders_changed = True
-
-    def _polhode(self, value) -> None:
-        self.show_polhode = bool(value)
-        self.polhode.clear()
-
-    def _mesh(self, value) -> None:
-        self._use_mesh(value)
-
-    def _upload(self, value) -> None:
-        """(file name, bytes) from the browser: through the parser, size-capped."""
-        from .upload import display_name, parse_upload
-
-        name, content = value
-        sc = parse_upload(name, content)
-        self.mesh = None
-        self._load(sc, f"upload {display_name(name)}")
-        self.error = ""
-
-    def _scenario(self, value) -> None:
-        """(Scenario, label) from a panel: a sweep's point, a recommended method."""
-        sc, label = value
-        self.mesh = None
-        self._load(sc, label)
-        self.error = ""
-
-    def _use_mesh(self, name: str) -> None:
-        """Draw the body as a mesh from assets/meshes, or as the uniform shape of its inertia again
-        ("inertia shape"). The mesh, a uniform solid of mass M scaled to keep A + B + C, gives A, B, C."""
-        from . import mesh as meshes
-
-        if name in (None, "", meshes.INERTIA_SHAPE):
-            self.mesh = None
-            self.shape = self._shape(self.scenario)
-            self.scene_changed = True
-            return
-        path = meshes.asset_path(name)  # only names the assets folder holds: no path comes from a browser
-        body = meshes.scaled_to(meshes.load_mesh(path, self.scenario.body.M), self.scenario.body)
-        sc = meshes.with_mesh(self.scenario, body)
-        self.mesh = body
-        self._load(sc, f"mesh {name}")
-
+    def _note_edit(self, kept: bool) -> None:
+        """Remember what the edit just applied did: the change of E when the state was carried (K and the
+        attitude kept, physics.carry), or why it restarted instead (a closed form has no state)."""
+        self.edit_dE = self.run.energy_change if kept else None
+        self.edit_note = self.run.edit_note
+        if kept:  # the new state's row, at the same t: the plots show E's step, and the readouts refresh
+            self._record(self.run.last)
 
     # ---- the clock's figures, as attributes (scripts and tests set eng.warp) --------------------
     @property
@@ -313,13 +275,25 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
             t0 = self.run.t
             wall = self.clock.frame_wall(wall_dt)
             self._advance(self.warp * wall, floor=wall)
-            self.clock.played(self.run.t - t0, wall)
+            self.clock.played(self.run.t - t0, max(wall_dt, 0.0))  # the wall time that passed, unclipped
+        else:
+            self.clock.paused()
         if self.overlay is not None and self.run.t > self.overlay[0][-1]:
             self.overlay_dirty = True  # the run has passed the prediction: predict again from now
         if self.overlay_dirty:
             self._compute_overlay()
         self.frames += 1
-        return self.frame()
+        try:
+            fr = self.frame()
+        except Exception as exc:  # a state the model cannot even observe (extreme values): a fault, never a crash
+            self.run.status = "fault"
+            self.run.message = f"the state cannot be shown ({type(exc).__name__}: {str(exc)[:120]}); undo or reset"
+            if self._last_frame is None:
+                raise
+            fr = dataclasses.replace(self._last_frame, status=self.run.status, message=self.run.message,
+                                     applied=self.applied_seq)
+        self._last_frame = fr
+        return fr
 
     def _advance(self, dt: float, floor: float | None = None) -> None:
         """Integrate dt simulated seconds. With a ``floor`` (a frame's wall seconds: playing), only as many
@@ -330,23 +304,44 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         if floor is not None:
             dt = self.clock.allowance(dt, floor)
         t0, start = self.run.t, time.perf_counter()
+        # beyond a few samples per turn of the cone, the frame's last turns are sampled densely for the trail
+        head, tail, tail_samples = split_advance(dt, SAMPLES_PER_FRAME, self.turn_period())
+        dense = None
         try:
-            tr = self.run.advance(dt, samples=SAMPLES_PER_FRAME)
+            tr = self.run.advance(head, samples=SAMPLES_PER_FRAME - 1 if tail > 0 else SAMPLES_PER_FRAME
+                                  ) if head > 0 else None
+            if tail > 0 and not self.run.ended:
+                dense = self.run.advance(tail, samples=tail_samples)
         except Exception as exc:  # a model error that is not an integrator status: report, stop
             self.run.status, self.run.message = "fault", f"{type(exc).__name__}: {exc}"
             return
         spent = time.perf_counter() - start
         self.wall_total += spent
         self.clock.measured(self.run.t - t0, spent)
-        if len(tr):
-            self._record(tr)
+        if tr is not None and len(tr):
+            self._record(tr, trail_too=dense is None or not len(dense))
+        if dense is not None and len(dense):
+            self.trail.clear()  # the trail is the last turns alone: older samples are too far apart to join
+            self._extend_trail(dense)
+            self._record(thinned(dense, 1 if tr is not None else SAMPLES_PER_FRAME), trail_too=False)
 
-    def _record(self, tr: physics.Trajectory) -> None:
-        self.plot.extend(np.column_stack([tr.t, tr.theta, tr.K, tr.E]))
-        if tr.columns == self.history_columns:
-            self.history.extend(tr.table())
+    def turn_period(self) -> float:
+        """Seconds the trail's point takes to go once round the cone, at the fastest (app.trail)."""
+        b, last = self.scenario.body, self.run.last
+        return cone_turn_period(b.A, b.B, float(last.K[0]), float(np.linalg.norm(last.omega[0])))
+
+    def _extend_trail(self, tr: physics.Trajectory) -> None:
         for q in tr.quat:
             self.trail.extend(self._trail_point(q))
+
+    def _record(self, tr: physics.Trajectory, trail_too: bool = True) -> None:
+        rows = np.column_stack([tr.t, tr.theta, tr.K, tr.E])
+        self.plot.extend(rows)
+        self.plot_all.extend(rows)
+        if tr.columns == self.history_columns:
+            self.history.extend(tr.table())
+        if trail_too:
+            self._extend_trail(tr)
         if self.show_polhode:
             self.polhode.extend(self._polhode_points(tr.omega))
         self.plots_changed = True
@@ -355,52 +350,16 @@ class Engine(OverlayMixin, BadgeMixin, FrameMixin):
         """Simulated seconds the plots show at the present warp."""
         return PLOT_POINTS / (SAMPLES_PER_FRAME * FRAME_HZ) * self.warp
 
-    # ---- output ----------------------------------------------------------------------------------
-    def plot_data(self) -> tuple[np.ndarray, ...]:
-        """(t, theta, overlay's theta, |K|, E) over the plot window. The overlay starts from the state at
-        the time it was computed, so before that time it equals theta; without an overlay it is theta
-        (the plot hides it). No NaN: uPlot's auto-range would break on them."""
-        rows = self.plot.values()
-        t = rows[:, 0]
-        over = rows[:, 1].copy()
-        if self.overlay is not None and len(t):
-            ot, oth = self.overlay
-            after = t >= ot[0]
-            over[after] = np.interp(t[after], ot, oth)
-        return t, rows[:, 1], over, rows[:, 2], rows[:, 3]
 
-    def readouts(self) -> dict[str, str]:
-        run = self.run
-        d = {"t": f"{run.t:.4g} s", "theta": f"{run.last.theta[0]:.6f} rad", "|K|": f"{run.last.K[0]:.6g} kg m^2/s",
-             "E": f"{run.last.E[0]:.6g} J"}
-        T = physics.derived(self.scenario)["T"] if run.b > 0 else math.inf
-        d["T"] = "no braking" if math.isinf(T) else f"{T:.6g} s"
-        rem = run.remaining_braking_time()
-        d["remaining"] = "n/a" if math.isinf(rem) else f"{rem:.6g} s"
-        d["fidelity"] = f"{run.fidelity} ({run.model.name})" + (" by auto" if run.requested == "auto" else "")
-        q = run.last.quat[0]
-        d["q"] = "[" + ", ".join(f"{x:.4f}" for x in q) + "]"
-        return d
-
-    def csv(self) -> bytes:
-        buf = io.StringIO()
-        np.savetxt(buf, self.history.values(), delimiter=",", header=",".join(self.history_columns), comments="",
-                   fmt="%.17g")
-        return buf.getvalue().encode()
-
-    def toml(self) -> bytes:
-        return self.scenario.to_toml().encode()
+def _edit_names(pending: dict) -> str:
+    """The sliders a change moved, by their labels ("m (kg)"; "l (m) of bob 2")."""
+    names = []
+    for k in sorted(pending):
+        key, _, which = k.partition("#")
+        p = controls.BY_KEY.get(key)
+        names.append((p.label if p is not None else key) + (f" of bob {int(which) + 1}" if which else ""))
+    return ", ".join(names)
 
 
-# action name -> handler; ``Engine.request(name, value)`` queues one, ``tick`` applies it
-ACTIONS = {
-    "play": Engine._play, "pause": Engine._pause, "step": Engine._step, "reset": Engine._reset,
-    "warp": Engine._set_warp, "preset": Engine._preset, "system": Engine._system, "fidelity": Engine._fidelity,
-    "restart_on_change": Engine._restart_on_change, "view": Engine._view, "exaggeration": Engine._exaggeration,
-    "overlay": Engine._overlay, "tune": Engine._tune, "bob": Engine._bob, "polhode": Engine._polhode,
-    "mesh": Engine._mesh, "upload": Engine._upload, "scenario": Engine._scenario,
-}
-
-
-def _with_fidelity(run: physics.Run, fidelity: str) -> physics.Run:
-    return dataclasses.replace(run, fidelity=fidelity)
+__all__ = ["EDITS_LISTED", "HISTORY_ROWS", "PLOT_POINTS", "RECENT", "SAMPLES_PER_FRAME", "TRAIL_POINTS", "VIEWS",
+           "WHOLE_RUN", "WHOLE_RUN_POINTS", "Engine", "Frame"]

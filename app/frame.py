@@ -10,8 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import physics
-
+from .mass_view import drawn_displacement
 from .scene import E3, ellipsoid_axes, mass_points, plane_bob, qmul, rotate, spherical_bob
 
 
@@ -33,6 +32,7 @@ class Frame:
     torque_vec: np.ndarray | None
     mass_rest: np.ndarray | None = None
     mass_pos: np.ndarray | None = None
+    mass_capped: bool = False  # the drawn displacement was cut to app.mass_view.CAP_FRACTION of the body
     bobs: list = field(default_factory=list)  # [(pivot, bob)] body frame, m
     trail: np.ndarray | None = None  # (n, 3) scene coordinates, on a sphere of radius trail_radius
     polhode: np.ndarray | None = None  # (n, 3) body frame, m: omega's tip on the drawn inertia ellipsoid
@@ -79,7 +79,8 @@ class FrameMixin:
         sc = self.scenario
         if sc.mass is not None and "ux" in last.internal:
             u = np.array([last.internal[k][0] for k in ("ux", "uy", "uz")])
-            fr.mass_rest, fr.mass_pos = mass_points(sc.mass.rho, u, self.exaggeration)
+            drawn, fr.mass_capped = drawn_displacement(u, self.exaggeration, self.shape.extent)
+            fr.mass_rest, fr.mass_pos = mass_points(sc.mass.rho, drawn, 1.0)
         elif sc.mass is not None:
             fr.mass_rest, fr.mass_pos = mass_points(sc.mass.rho, np.zeros(3), 1.0)
         if sc.pendulum is not None:
@@ -114,14 +115,9 @@ class FrameMixin:
         return rotate(self.world_wxyz, rotate(q, E3))
 
     def momentum(self) -> np.ndarray:
-        """Inertial total angular momentum now (kg m^2/s)."""
-        run = self.run
-        if run.model.invariants is not None and run.y.size:
-            K, _ = run.model.invariants(run.y[None, :], run.p)
-            return np.asarray(K[0], dtype=float)
-        # closed form: K stays along the initial direction of G (physics.closed_form_state)
-        _, G0, th0 = physics.initial_G(self.scenario)
-        return float(run.last.K[0]) * np.array([math.sin(th0), 0.0, math.cos(th0)])
+        """Inertial total angular momentum now (kg m^2/s); a closed form's is fixed along its start's G, turned
+        by where an edit restarted it (physics.LiveRun.momentum)."""
+        return self.run.momentum()
 
     def momentum_dir(self) -> np.ndarray:
         K = self.momentum()

@@ -17,6 +17,7 @@ import physics
 MESH_DIR = Path(__file__).resolve().parents[1] / "assets" / "meshes"
 MESH_SUFFIXES = (".stl", ".obj", ".ply", ".glb", ".off")
 INERTIA_SHAPE = "inertia shape"  # the GUI's name for "no mesh: the uniform solid of the body's inertia"
+EXTENT_MIN, EXTENT_MAX = 1e-50, 1e50  # m: coordinates whose fifth powers (inertia integrals) stay finite
 SYMMETRIC = 1e-6  # relative |A - B| below which a mesh counts as axisymmetric (facets break the symmetry)
 
 
@@ -51,13 +52,25 @@ def load_mesh(path: str | Path, M: float) -> BodyMesh:
         raise physics.ScenarioError("--mesh", str(path), f"cannot be read as a mesh ({exc})") from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise physics.ScenarioError("--mesh", str(path), "holds no triangles")
-    if not mesh.is_watertight or mesh.volume <= 0:
+    extent = float(np.max(np.abs(mesh.vertices))) if len(mesh.vertices) else 0.0
+    if not EXTENT_MIN <= extent <= EXTENT_MAX:  # the inertia integrals are fifth powers of the coordinates
+        raise physics.ScenarioError("--mesh", str(path), f"has coordinates up to {extent:.3g} in size; they must "
+                                    f"reach between {EXTENT_MIN:g} and {EXTENT_MAX:g} (m) so that its inertia "
+                                    "stays within floating point: rescale the mesh")
+    if not mesh.is_watertight or not mesh.volume > 0:
         raise physics.ScenarioError("--mesh", str(path), "must be a closed (watertight) surface enclosing a volume, "
                                     "so that its inertia is defined")
     mesh = mesh.copy()
     mesh.density = M / mesh.volume
-    mesh.apply_transform(mesh.principal_inertia_transform)  # COM to the origin, principal axes along x, y, z
-    I = np.asarray(mesh.moment_inertia, dtype=float)
+    try:
+        with np.errstate(all="ignore"):
+            mesh.apply_transform(mesh.principal_inertia_transform)  # COM to the origin, principal axes along x, y, z
+            I = np.asarray(mesh.moment_inertia, dtype=float)
+    except (np.linalg.LinAlgError, ValueError, ArithmeticError) as exc:
+        raise physics.ScenarioError("--mesh", str(path), f"its inertia cannot be computed ({exc}); "
+                                    "rescale the mesh") from None
+    if not np.all(np.isfinite(I)) or not np.all(np.isfinite(mesh.vertices)):
+        raise physics.ScenarioError("--mesh", str(path), "its inertia is not finite; rescale the mesh")
     order = principal_order(np.diag(I))
     P = np.eye(3)[order]  # new coordinates = P @ old
     if np.linalg.det(P) < 0:

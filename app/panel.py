@@ -8,9 +8,15 @@ from __future__ import annotations
 import numpy as np
 import viser
 
-from . import controls, plots, presets
+import physics
+
+from . import controls, edits, plots, presets, words
+from .control_notes import NotePlace
 from .engine import Engine
 from .mesh import INERTIA_SHAPE, asset_names
+from .playbar import Playbar
+
+EDITED = " (edited)"  # the preset dropdown's name for a preset changed since it was loaded
 
 
 class Panel:
@@ -25,23 +31,24 @@ class Panel:
         gui, eng = self.client.gui, self.engine
         gui.configure_theme(control_width="large")
         self.status_md = gui.add_markdown("**Quasirigid explorer**")
+        self.playbar = Playbar(gui, eng)  # right under the status line: reached without scrolling
         self.readout_md = gui.add_markdown("")
         self.error_md = gui.add_markdown("")
+        with gui.add_folder("Details", expand_by_default=False):  # the technical side, one click away
+            self.details_md = gui.add_markdown("")
         with gui.add_folder("Plots"):
             self.plots = plots.build_plots(gui, eng.plot_data())
         with gui.add_folder("Playback"):
-            self.play_btn = gui.add_button("Play", icon=None)
-            self.pause_btn = gui.add_button("Pause")
-            self.step_btn = gui.add_button("Step")
-            self.reset_btn = gui.add_button("Reset")
             self.warp = gui.add_slider("time warp (log10 x)", min=-1.0, max=4.0, step=0.05,
                                        initial_value=float(np.log10(eng.warp)),
                                        hint="simulated seconds per wall second, as a power of ten (0 = 1x, 3 = 1000x)")
             self.restart = gui.add_checkbox("restart on change", False,
-                                            hint="restart from t = 0 on every change instead of keeping the state")
+                                            hint="restart from t = 0 on every change, instead of going on "
+                                            "with the angular momentum K and the attitude kept")
         with gui.add_folder("Model"):
-            self.preset = gui.add_dropdown("Preset", presets.preset_names(), initial_value=eng.preset
-                                           if eng.preset in presets.preset_names() else presets.DEFAULT)
+            self.preset_names = presets.preset_names()
+            self.preset = gui.add_dropdown("Preset", self.preset_names, initial_value=presets.DEFAULT,
+                                           hint="choosing a preset again reloads it")
             self.system = gui.add_dropdown("System", list(controls.SYSTEM_LABELS),
                                            initial_value=_system_label(eng.scenario.system))
             self.fidelity = gui.add_dropdown("Fidelity", list(controls.FIDELITIES), initial_value=eng.fidelity_choice,
@@ -52,15 +59,21 @@ class Panel:
                                             hint="a cheaper fidelity's theta(t), computed with physics.simulate")
             self.tune_btn = gui.add_button("Tune to resonance", hint="spherical pendulum: k = resonant (MODELS B.5)")
         self.panels: dict = {}
+        self._panels_scene = None  # the scenario the study panels last judged their results against
         self.sliders, self.folders = controls.build_sliders(gui, eng.values)
+        folder_of = {key: self.folders[title] for title, keys in controls.FOLDERS for key in keys}
+        self.notes = NotePlace(gui, self.sliders, folder_of, self.error_md.order,
+                               undo=lambda: eng.request("undo"), reset=lambda: eng.request("reload"))
         with self.folders["Pendulum damper"]:
             self.bob = gui.add_dropdown("bob", ["all", "1", "2", "3"], initial_value="all",
                                         hint="plane pendulums: which bob the sliders above edit")
         with gui.add_folder("View"):
             self.view = gui.add_dropdown("Frame", ["inertial", "body"], initial_value="inertial",
                                          hint="inertial: K fixed and pointing up; body: the body stays still")
-            self.exag = gui.add_slider("exaggerate u (x)", min=1.0, max=1000.0, step=1.0, initial_value=10.0,
-                                       hint="the mass's displacement is drawn this many times larger")
+            self.exag = gui.add_slider("exaggerate u (x)", min=1.0, max=1000.0, step=1.0,
+                                       initial_value=float(eng.exaggeration),
+                                       hint="the mass's displacement is drawn this many times larger (each scene "
+                                       "starts with a factor that keeps it within the body; shown beside the mass)")
             self.polhode = gui.add_checkbox("polhode", False, hint="the tip of omega on the inertia ellipsoid, in "
                                             "the body (Poinsot): closed loops when nothing dissipates")
             self.body_mesh = gui.add_dropdown("body drawn as", [INERTIA_SHAPE, *asset_names()],
@@ -82,24 +95,32 @@ class Panel:
             def _(event):
                 if event.client is None:  # our own assignment of a value: not a user's change
                     return
-                eng.request(action, convert(handle.value))
+                try:  # a raw client can send anything: a bad value is said, never a traceback
+                    value = convert(handle.value)
+                except (TypeError, ValueError, OverflowError, KeyError) as exc:
+                    eng.error = f"{handle.label}: {str(handle.value)[:40]!r} is not allowed ({type(exc).__name__})"
+                    return
+                eng.request(action, value)
 
         def click(handle, action):
             @handle.on_click
             def _(_event):
                 eng.request(action)
 
-        click(self.play_btn, "play")
-        click(self.pause_btn, "pause")
-        click(self.step_btn, "step")
-        click(self.reset_btn, "reset")
         click(self.tune_btn, "tune")
         on(self.warp, "warp", lambda v: 10.0 ** float(v))
         on(self.restart, "restart_on_change")
-        on(self.preset, "preset")
+
+        @self.preset.on_update
+        def _(event):
+            # the scene's own name ("... (edited)", an upload) is not a preset to load
+            if event.client is not None and self.preset.value in self.preset_names:
+                eng.request("preset", self.preset.value)
+
         on(self.system, "system", lambda v: controls.SYSTEM_LABELS[v])
         on(self.fidelity, "fidelity")
         on(self.overlay, "overlay")
+        on(self.plots.span, "plots", lambda v: plots.SPANS[v])
         on(self.view, "view")
         on(self.exag, "exaggeration")
         on(self.polhode, "polhode")
@@ -145,7 +166,7 @@ class Panel:
         def _(event):
             if event.client is None:
                 return
-            self.engine.request_value(key, float(slider.value))
+            self.engine.request_value(key, float(slider.value), limits=(slider.min, slider.max))
 
     def sync(self) -> None:
         """After a preset or system change: slider values, ranges and which folders apply."""
@@ -159,7 +180,7 @@ class Panel:
             _set(slider, "value", min(max(eng.values[key], lo), hi))
             _set(slider, "disabled", system not in p.systems)
         _set(self.folders["Pendulum damper"], "visible", system != "moving_mass")
-        for title in ("Seed 004: mass, medium, braking", "Friction and cavity"):
+        for title in (controls.MASS_FOLDER, controls.FRICTION_FOLDER):
             _set(self.folders[title], "visible", system == "moving_mass")
         _set(self.tune_btn, "visible", system == "spherical_pendulum")
         n = len(eng.scenario.plane_pendulums)
@@ -169,14 +190,26 @@ class Panel:
             _set(self.bob, "value", "all" if eng.bob is None else str(eng.bob + 1))
         _set(self.body_mesh, "value", eng.mesh.name if eng.mesh is not None and eng.mesh.name in asset_names()
              else INERTIA_SHAPE)
+        _set(self.exag, "value", float(eng.exaggeration))  # each scene's own factor (app.mass_view)
+        _set(self.exag, "visible", eng.scenario.mass is not None)
         for panel in self.panels.values():  # a new scene may have other sliders to sweep
             if hasattr(panel, "refresh"):
                 panel.refresh()
         _set(self.warp, "value", float(np.log10(eng.warp)))
-        if eng.preset in presets.preset_names():
-            _set(self.preset, "value", eng.preset)
+        self._sync_preset()
+        _set(self.overlay, "value", eng.overlay_fidelity)
         _set(self.system, "value", _system_label(system))
         _set(self.fidelity, "value", eng.fidelity_choice)
+
+    def _sync_preset(self) -> None:
+        """The preset dropdown names the scene shown: its preset, "<preset> (edited)" once changed, or the
+        scene's own name (an upload, a sweep point). Choosing a preset is then always a change of the
+        dropdown's value, which reloads it, even the preset the scene came from."""
+        eng = self.engine
+        label = eng.preset + (EDITED if eng.edited else "")
+        options = tuple(self.preset_names) if label in self.preset_names else (*self.preset_names, label)
+        _set(self.preset, "options", options)
+        _set(self.preset, "value", label)
 
     # ---- scene -----------------------------------------------------------------------------------
 
@@ -186,20 +219,36 @@ class Panel:
         if eng.sliders_changed:
             eng.sliders_changed = False
             self.sync()
+        if self.panels and eng.scenario is not self._panels_scene:  # any change of the scene, a slider's too
+            self._panels_scene = eng.scenario
+            for panel in self.panels.values():  # results of the earlier scene are marked stale
+                if hasattr(panel, "scene_changed"):
+                    panel.scene_changed()
         if plots_now and eng.plots_changed:
             eng.plots_changed = False
-            plots.update_plots(self.plots, eng.plot_data(), eng.has_overlay)
+            plots.update_plots(self.plots, eng.plot_data(), eng.has_overlay, eng.overlay_title())
             self.readout_md.content = _readout_md(eng)
+            _set(self.details_md, "content", _details_md(eng))
+        if plots_now:
+            self._sync_preset()  # "(edited)" after a slider change, which does not resync the panel
         _set(self.badge_md, "content", eng.badge())  # cached: computed once per scenario, off this thread
+        for key, value in eng.guard.take_revert().items():  # a rejected value's slider shows the last good one
+            _set(self.sliders[key], "value", value)
+        note = edits.shown_note(eng.guard, fr.status, fr.message)
+        self.notes.show(note, can_undo=bool(eng.guard.undo))
+        beside = note is not None and note.reason == eng.error  # shown under its slider: not again up here
         _set(self.error_md, "content", f"<span style='color:#c00'>**Rejected:** {eng.error}</span>"
-             if eng.error else "")
+             if eng.error and not beside else "")
         state = "playing" if eng.playing else "paused"
         if fr.status != "running":
-            state = fr.status + (": " + fr.message if fr.message else "")
+            state = fr.status + (": " + words.status_words(fr.message) if fr.message else "")
         warp = f"warp {eng.warp:.3g}x"
-        if eng.playing and fr.status == "running" and eng.achieved_warp < 0.8 * eng.warp:
-            warp += f" (reaching {eng.achieved_warp:.3g}x: as fast as this machine integrates)"
-        _set(self.status_md, "content", f"**Quasirigid explorer** · {state} · {warp}")
+        reached = eng.achieved_warp  # measured over the last second of playing (app.clock)
+        if eng.playing and fr.status == "running" and reached < 0.8 * eng.warp:
+            warp += f" (reaching {reached:.3g}x: as fast as this machine integrates)"
+        build = physics.kernel_status()
+        prep = f" · preparing the fast integrator: {build.elapsed:.0f} s" if build.state == "pending" else ""
+        _set(self.status_md, "content", f"**Quasirigid explorer** · {state} · {warp}{prep}")
 
 
 def _set(handle, name: str, value) -> None:
@@ -215,5 +264,13 @@ def _readout_md(eng: Engine) -> str:
     """One ``name = value`` line per readout (the browser test reads them back)."""
     d = eng.readouts()
     return "  \n".join(f"{k} = {v}" for k, v in d.items()) + f"  \npreset: {eng.preset}"
+
+
+def _details_md(eng: Engine) -> str:
+    """The Details folder: model, method and the raw attitude; the averaged model's conditions as formulas."""
+    d = eng.details()
+    lines = "  \n".join(f"{k} = {v}" for k, v in d.items())
+    conds = eng.badge_details()
+    return lines + ("  \n" + conds if conds else "")
 
 

@@ -1,5 +1,5 @@
 """The explorer's presets: the built-in default, the scenario files in assets/scenarios, a few
-scenes that have no file (pendulum dampers, seed 000's braking, the intermediate-axis flip), and one
+scenes that have no file (pendulum dampers, braking, the intermediate-axis flip), and one
 representative run of each reproduced figure (assets/scenarios/figures, written by
 ``python -m bench figures --presets``; each file's first line ``# preset: TITLE`` gives its title)."""
 
@@ -16,7 +16,7 @@ DEFAULT = "Default: oblate body settling (1 min)"
 
 # Scenes without a file. Each is a scenario dict in the TOML layout (README "Use").
 BUILT_IN: dict[str, dict] = {
-    "Braking, quasi-static viscoelastic mass (seed 000)": {
+    "Braking a body with a viscoelastic mass (starts quasi-static)": {
         "body": {"A": 1.0, "C": 1.4, "M": 10.0},
         "mass": {"m": 0.3, "rho": 1.5, "Omega": 20.0, "chi": 20.0},
         "control": {"b": 0.005, "law": "Jw"},
@@ -52,13 +52,13 @@ BUILT_IN: dict[str, dict] = {
 FILE_TITLES = {
     "oblate_settling": "Oblate body settling",
     "prolate_flat_spin": "Explorer 1's flat spin",
-    "braking_cavity_medium": "Braking with a cavity and a medium (seed 004)",
-    "quadratic_friction": "Quadratic friction (seed 000)",
-    "pendulum_resonant": "Seed 002 set R: spherical pendulum tuned to resonance",
-    "pendulum_detuned": "Seed 002 set R: spherical pendulum detuned (lambda_1 = Omega/2)",
-    "pendulum_asymmetric": "Seed 002: asymmetric carrier with a resonant pendulum",
-    "pendulum_prolate": "Seed 002: prolate carrier, the damper makes the nutation grow",
-    "plane_pendulums_three": "Taylor's damper: three plane pendulums (seed 002)",
+    "braking_cavity_medium": "Braking with a fluid cavity and a resisting medium",
+    "quadratic_friction": "Moving mass with drag-like (quadratic) friction",
+    "pendulum_resonant": "Large spinning body, pendulum damper tuned to resonance",
+    "pendulum_detuned": "Large spinning body, pendulum damper detuned (half the nutation frequency)",
+    "pendulum_asymmetric": "Asymmetric body with a resonant pendulum damper",
+    "pendulum_prolate": "Prolate body: the pendulum damper makes the nutation grow",
+    "plane_pendulums_three": "Taylor's damper: three plane pendulums",
 }
 
 
@@ -108,3 +108,53 @@ PLAY_SECONDS = 40.0  # a preset's suggested warp plays its whole run in about th
 def suggested_warp(sc: physics.Scenario) -> float:
     """A warp that shows the preset's whole run in about PLAY_SECONDS, never below 1x."""
     return float(min(WARP_MAX, max(1.0, sc.run.t_end / PLAY_SECONDS)))
+
+
+# The cheaper fidelity a preset's figure compares the full model with: choosing the preset turns that overlay
+# on (file stem -> overlay). The braking figures and seed 004's counterparts are closed forms; the pendulum
+# frequency and resonance figures, linear theory's envelope (the "closed" overlay of a pendulum system).
+OVERLAYS = {
+    "seed000_fig1a_prolate": "closed", "seed000_fig1b_oblate": "closed",
+    **{f"seed004_fig{f}_{shape}": "closed" for f in (1, 2, 3, 4) for shape in ("oblate", "prolate")},
+    "seed002_frequencies_set_R": "closed", "seed002_resonance_detuned": "closed",
+    "seed002_averaged_eps025": "averaged",
+}
+
+
+def overlay_of(name: str) -> str | None:
+    """The overlay a preset names ("averaged" or "closed"), or None when it names none."""
+    path = preset_files().get(name)
+    return OVERLAYS.get(path.stem) if path is not None else None
+
+
+# What choosing a system starts from: its internal part, run settings and defaults; the body and the
+# initial state are the current scene's where they fit (system_scene).
+SYSTEM_TEMPLATES = {"moving_mass": DEFAULT, "spherical_pendulum": "Spherical pendulum damper, resonant",
+                    "plane_pendulums": "Plane pendulums (three, in the spin plane)"}
+
+
+def system_scenes(current: physics.Scenario, system: str) -> list[tuple[physics.Scenario, str]]:
+    """Scenes of ``system`` to try in turn, each (scenario, the name the panel shows): the template preset's
+    internal part with the current body (A, B, C, M) and initial state (G0 and theta0, or omega); then the
+    same with the template's spring as a number (a prolate body has no resonant spring); then the template
+    as it is. Some refusals come only when a run starts (the resonant spring), so the engine tries them."""
+    if system not in SYSTEM_TEMPLATES:
+        raise physics.ScenarioError("system", system, f"is not one of {', '.join(SYSTEM_TEMPLATES)}")
+    name = SYSTEM_TEMPLATES[system]
+    template = load_preset(name)
+    data = template.to_dict()
+    now = current.to_dict()
+    data["body"] = now["body"]
+    initial = dict(now["initial"])
+    if system != "moving_mass":
+        initial.pop("mass_state", None)  # only a moving mass has a quasi-static start
+    data["initial"] = initial
+    out = []
+    try:
+        out.append((physics.Scenario.from_dict(data), f"{name}, body kept"))
+        if isinstance(data.get("pendulum", {}).get("k"), str):
+            data["pendulum"]["k"] = float(physics.derived(template)["k"])  # the template's spring, as a number
+            out.append((physics.Scenario.from_dict(data), f"{name}, body kept"))
+    except physics.ScenarioError:
+        pass
+    return out + [(template, name)]

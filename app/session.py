@@ -34,8 +34,8 @@ class Session:
         self.server = server
         self.client = client
         self.stats = stats
-        note = client.gui.add_markdown("**Quasirigid explorer** · preparing the integrator (the first run on a "
-                                       "machine compiles it, about half a minute)...")
+        # brief: on a machine without the compiled kernels the scene starts on their interpreted twins at once
+        note = client.gui.add_markdown("**Quasirigid explorer** · preparing the scene...")
         try:
             self.engine = Engine(scenario, mesh=mesh)
         finally:
@@ -95,6 +95,9 @@ class Session:
                 deadline = time.perf_counter()  # behind (a slow frame): do not try to catch up
 
     def close(self) -> None:
+        """The tab closed: the loop ends at its next turn, and a prediction being computed gives up at its next
+        chunk (physics.simulate's progress callback), so nothing of the tab keeps a core busy."""
         self.stop.set()
+        self.engine.cancel_workers()
 
 

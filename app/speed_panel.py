@@ -2,28 +2,37 @@
 in a background thread, with a progress bar, a log-log chart of theta error against wall time (one
 trace per method) and a button that switches the scene to the recommended method and setting.
 
+The run controls sit in the panel's folder; the chart, the summary and the button go to a tab of the
+movable results window (results_window.py), with the legend below the chart and plotly's toolbar off, so
+neither covers the traces. When the scene changes (other than in its run method and step, which applying
+the recommendation itself changes) the result is marked stale and cannot be applied (``scene_changed``).
 Nothing here raises into viser: a failed sweep becomes a message in the panel.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
 import threading
 from collections.abc import Callable
 
 import physics
 
+from . import results_window
+from .stale import RUN_SETTINGS, same_scene
+
 NOTHING_YET = "Use recommended: (run the sweep first)"
 METHOD_NAMES = {"auto": "DOP853 (compiled, adaptive)", "RK4": "RK4 (compiled)", "RK8": "RK8 (compiled)",
                 "midpoint": "implicit midpoint (compiled)"}
 ERROR_FLOOR = 1e-16  # rad: a zero error is drawn here on the log axis
+STALE = "**Stale:** the scene has changed since this sweep; run it again for the current scene."
 
 
 def setting_text(row: physics.WorkPrecisionRow) -> str:
     return f"rtol = {row.setting:.3g}" if row.method == "auto" else f"dt = {row.setting:.4g} s"
 
 
-def figure(result: physics.WorkPrecision | None):
+def figure(result: physics.WorkPrecision | None, stale: bool = False):
     """A plotly figure: theta error (rad) against wall time (s), log-log, one trace per method, the
     requested tolerance as a dashed line and the recommended point ringed."""
     import plotly.graph_objects as go
@@ -36,17 +45,24 @@ def figure(result: physics.WorkPrecision | None):
                 x=[r.wall_s for r in rows], y=[max(r.error, ERROR_FLOOR) for r in rows], mode="lines+markers",
                 name=METHOD_NAMES.get(method, method), text=[setting_text(r) for r in rows],
                 hovertemplate="%{text}<br>error %{y:.3g} rad<br>%{x:.3g} s<extra></extra>"))
-        if math.isfinite(result.tolerance):
-            fig.add_hline(y=result.tolerance, line_dash="dash", line_color="gray",
-                          annotation_text="requested", annotation_position="top left")
+        if math.isfinite(result.tolerance) and result.tolerance > 0:
+            fig.add_hline(y=result.tolerance, line_dash="dash", line_color="gray")
+            # placed by hand: add_hline's own label lands at the top on a log axis, where an annotation's
+            # y is the exponent, over the traces
+            fig.add_annotation(x=1.0, xref="paper", y=math.log10(result.tolerance), yref="y", text="requested",
+                               showarrow=False, xanchor="right", yanchor="bottom", font={"size": 10, "color": "gray"})
         best = result.recommended
         if best is not None:
             fig.add_trace(go.Scatter(x=[best.wall_s], y=[max(best.error, ERROR_FLOOR)], mode="markers",
                                      name="recommended", marker={"size": 14, "symbol": "circle-open",
                                                                   "line": {"width": 2}}))
-    fig.update_xaxes(type="log", title_text="wall time (s)")
-    fig.update_yaxes(type="log", title_text="theta error (rad)")
-    fig.update_layout(margin={"l": 50, "r": 10, "t": 10, "b": 40}, legend={"font": {"size": 9}})
+    # one tick a decade, written as powers of ten: short labels that cannot run into each other
+    fig.update_xaxes(type="log", title_text="wall time (s)", dtick=1, exponentformat="power")
+    fig.update_yaxes(type="log", title_text="theta error (rad)", dtick=2, exponentformat="power")
+    fig.update_layout(margin={"l": 60, "r": 10, "t": 28 if stale else 10, "b": 110},  # room for the legend
+                      legend={"orientation": "h", "x": 0.0, "y": -0.2, "yanchor": "top", "font": {"size": 10}},
+                      title={"text": "STALE: the scene changed since this sweep" if stale else "",
+                             "font": {"size": 12}})
     return fig
 
 
@@ -74,15 +90,21 @@ class SpeedPanel:
         self.get_scenario, self.apply = get_scenario, apply
         self.sweep = sweep or physics.work_precision
         self.result: physics.WorkPrecision | None = None
+        self.swept: physics.Scenario | None = None  # the scene the result was measured on
+        self.stale = False
         self.thread: threading.Thread | None = None
         self.cancel = threading.Event()
-        self.status = gui.add_markdown("Times every compiled method on a short stretch of this scene against a "
-                                       "tight reference, then recommends the cheapest that is accurate enough.")
+        gui.add_markdown("Times every compiled method on a short stretch of this scene against a tight "
+                         "reference, then recommends the cheapest that is accurate enough.")
         self.run_btn = gui.add_button("Run speed vs accuracy sweep")
         self.stop_btn = gui.add_button("Stop", disabled=True)
         self.bar = gui.add_progress_bar(0.0)
-        self.plot = gui.add_plotly(figure(None), aspect=1.3)
-        self.use_btn = gui.add_button(NOTHING_YET, disabled=True)
+        tab = results_window.results_tab(gui, "Speed vs accuracy")
+        with tab if tab is not None else contextlib.nullcontext():
+            self.status = gui.add_markdown("Run the sweep: its chart and recommendation appear here.")
+            # aspect is height / width in viser's browser side (see sweep_panel.py); room below for the legend
+            self.plot = gui.add_plotly(figure(None), aspect=0.72, config={"displayModeBar": False})
+            self.use_btn = gui.add_button(NOTHING_YET, disabled=True)
         self.run_btn.on_click(lambda _: self.start())
         self.stop_btn.on_click(lambda _: self.cancel.set())
         self.use_btn.on_click(lambda _: self.use_recommended())
@@ -115,7 +137,7 @@ class SpeedPanel:
     def _work(self, sc: physics.Scenario) -> None:
         try:
             result = self.sweep(sc, progress=self._progress, cancel=self.cancel)
-            self.result = result
+            self.result, self.swept, self.stale = result, sc, False
             self.plot.figure = figure(result)
             self._say(summary(result))
             best = result.recommended
@@ -126,16 +148,39 @@ class SpeedPanel:
             else:
                 self.use_btn.label = NOTHING_YET
             self.bar.value = 100.0
+            self.scene_changed()  # the scene may have changed while the sweep ran
         except Exception as exc:  # noqa: BLE001 - a failed sweep is a message, not a dead thread
             self._say(f"**Sweep failed:** {type(exc).__name__}: {exc}")
         finally:
             self.run_btn.disabled = False
             self.stop_btn.disabled = True
 
+    def refresh(self) -> None:
+        """Called by the session after a preset or system change."""
+        self.scene_changed()
+
+    def scene_changed(self) -> None:
+        """Mark the result stale when the scene differs from the one measured, apart from the run method and
+        step (which applying the recommendation changes); the session calls this on every scene change."""
+        if self.result is None or self.swept is None:
+            return
+        try:  # called from the session's loop: never raise into it
+            stale = not same_scene(self.swept, self.get_scenario(), ignore=RUN_SETTINGS)
+            if stale != self.stale:
+                self.stale = stale
+                self.plot.figure = figure(self.result, stale=stale)
+                self._say((STALE + "  \n" if stale else "") + summary(self.result))
+                self.use_btn.disabled = stale or self.result.recommended is None
+        except Exception:  # noqa: BLE001 - a scenario being swapped out: judged again at the next change
+            pass
+
     def use_recommended(self) -> physics.Scenario | None:
         """Hand the scene's scenario, switched to the recommendation, to ``apply``; returns it."""
         if self.result is None or self.result.recommended is None:
             self._say("Run the sweep first: there is no recommendation yet.")
+            return None
+        if self.stale:
+            self._say(STALE)
             return None
         try:
             sc = self.get_scenario()

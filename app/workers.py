@@ -2,7 +2,8 @@
 Each runs in a daemon thread, so a long computation never stalls the frames; a newer request makes an
 older overlay give up, and the badge is worked out once per scenario.
 
-Mixed into ``app.engine.Engine``: they read its ``scenario``, ``run`` and ``plot_window()`` and set its
+Mixed into ``app.engine.Engine``: they read its ``scenario``, ``start_scenario``, ``edits``, ``run`` and
+``plot_window()`` and set its
 ``overlay``, ``error`` and ``plots_changed``.
 """
 
@@ -15,8 +16,10 @@ import numpy as np
 
 import physics
 
-OVERLAY_SAMPLES = 600
-OVERLAY_WINDOWS = 2.0  # a prediction covers this many plot windows ahead
+from . import words
+
+OVERLAY_SAMPLES = 2000  # from t = 0 to OVERLAY_WINDOWS times now: smooth models, interpolated linearly
+OVERLAY_WINDOWS = 2.0  # a prediction reaches this many times as far as the run has come
 
 
 class OverlayMixin:
@@ -28,39 +31,39 @@ class OverlayMixin:
         self.overlay_dirty = True
         self._overlay_thread: threading.Thread | None = None
         self._overlay_gen = 0
+        self._overlay_key = None  # (fidelity, start scenario) of the prediction shown
 
     def _compute_overlay(self) -> None:
         """Start computing the cheaper fidelity's prediction in a background thread: a long prediction must
         not stall the frames. A newer request cancels an older one.
 
-        Moving mass: the averaged model or the closed form from the present state (G and theta of now).
-        Spherical pendulum: its averaged model from t = 0 (it needs the pendulum's initial state).
-        Both pendulum systems, "closed": linear theory's envelope theta0 exp(-rate t) (MODELS B.4)."""
+        The prediction starts at t = 0 from the scenario the run began with (``start_scenario``), so it
+        lies on the same axes as the run's whole history; ``overlay_title`` says so, and names the edits
+        the run went on through since. It reaches OVERLAY_WINDOWS times as far as the run has come (at
+        least a plot window ahead), so it is computed again only each time the run doubles its t.
+        Moving mass and the spherical pendulum: the fidelity's own model; both pendulum systems,
+        "closed": linear theory's envelope theta0 exp(-rate t) (MODELS B.4)."""
         if self._overlay_thread is not None and self._overlay_thread.is_alive():
             self._overlay_gen += 1  # cancel it; overlay_dirty stays set, so a later tick starts anew
             return
         self.overlay_dirty = False
-        self.overlay = None
-        self._overlay_gen += 1
-        self.plots_changed = True
         fid = self.overlay_fidelity
+        key = (fid, self.start_scenario)
+        if key != self._overlay_key:  # another prediction: the old one must not show meanwhile
+            self.overlay = None
+            self.plots_changed = True
+        elif self.overlay is not None and self.overlay[0][-1] >= self.run.t:
+            return  # an edit that kept the run: the prediction from t = 0 is the same
+        self._overlay_key = key
+        self._overlay_gen += 1
         if fid == "none":
             return
-        sc = self.scenario
-        t0 = self.run.t
-        horizon = max(OVERLAY_WINDOWS * self.plot_window(), 1.0)  # recomputed when the run passes its end
+        sc = self.start_scenario
+        t_end = max(OVERLAY_WINDOWS * self.run.t, self.run.t + self.plot_window(), 1.0)
+        envelope = sc.system != "moving_mass" and fid == "closed"  # linear theory's, from physics.derived
         try:
-            if sc.system != "moving_mass":
-                if fid == "closed":
-                    d = physics.derived(sc)
-                    t = np.linspace(0.0, t0 + horizon, OVERLAY_SAMPLES)
-                    self.overlay = (t, d["theta0"] * np.exp(-float(d["decay_rate_linear"]) * t))
-                    return
-                t0, horizon = 0.0, t0 + horizon
-            elif t0 > 0:  # predict from the present state: G0 and theta0 of now
-                sc = sc.with_values(**{"initial.G0": float(self.run.last.K[0]),
-                                       "initial.theta0": float(self.run.last.theta[0])})
-            sc = sc.with_values(**{"run.t_end": horizon, "run.samples": OVERLAY_SAMPLES})
+            if not envelope:
+                sc = sc.with_values(**{"run.t_end": t_end, "run.samples": OVERLAY_SAMPLES})
         except (physics.ScenarioError, ValueError) as exc:
             self.error = f"overlay ({fid}): {exc}"
             return
@@ -74,19 +77,45 @@ class OverlayMixin:
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", physics.ValidityWarning)
-                    tr = physics.simulate(sc, fidelity=fid, progress=progress)
+                    if envelope:  # the analysis is bounded but can take a second: never on the loop thread
+                        d = physics.derived(sc)
+                        t = np.linspace(0.0, t_end, OVERLAY_SAMPLES)
+                        result = (t, d["theta0"] * np.exp(-float(d["decay_rate_linear"]) * t))
+                    else:
+                        tr = physics.simulate(sc, fidelity=fid, progress=progress)
+                        result = (tr.t, tr.theta)
             except _Cancelled:
                 return
-            except (physics.ScenarioError, physics.IntegrationFault, ValueError) as exc:
+            except (physics.ScenarioError, physics.IntegrationFault, ArithmeticError, ValueError) as exc:
                 if gen == self._overlay_gen:
                     self.error = f"overlay ({fid}): {exc}"
                 return
             if gen == self._overlay_gen:
-                self.overlay = (t0 + tr.t, tr.theta)
+                self.overlay = result
                 self.plots_changed = True
 
         self._overlay_thread = threading.Thread(target=work, name="overlay", daemon=True)
         self._overlay_thread.start()
+
+    def overlay_title(self) -> str:
+        """The prediction chart's title: which model, from when, and what the run did that it does not know."""
+        fid = self.overlay_fidelity
+        if fid == "closed" and self.start_scenario.system != "moving_mass":
+            what = "linear theory's envelope"
+        else:
+            what = f"the {fid} model's prediction"
+        title = f"theta and {what} from t = 0"
+        if self.edit_count:
+            t0, names = self.edits[0]
+            more = f" and {self.edit_count - 1} more" if self.edit_count > 1 else ""
+            title += f", for the scene at t = 0 (edited since: {names} at t = {t0:.4g} s{more})"
+        return title
+
+    def cancel_workers(self) -> None:
+        """Make a prediction being computed give up (its tab closed); the badge's analysis is bounded and ends
+        by itself."""
+        self._overlay_gen += 1
+        self.overlay_dirty = False
 
     def wait_overlay(self, timeout: float = 30.0) -> bool:
         """Block until the overlay being computed is done (for tests and scripts)."""
@@ -103,7 +132,7 @@ class BadgeMixin:
     """Auto's badge, cached per scenario: ``badge()`` returns markdown at once (a placeholder until ready)."""
 
     def _init_badge(self) -> None:
-        self._badge: tuple | None = None  # (scenario, markdown) of the last badge
+        self._badge: tuple | None = None  # (scenario, markdown, details' markdown) of the last badge
         self._badge_busy = False
 
     def badge(self, block: bool = False) -> str:
@@ -116,7 +145,7 @@ class BadgeMixin:
         if done is not None and done[0] is sc:
             return done[1]
         if block:
-            self._badge = (sc, _badge_text(sc))
+            self._badge = (sc, *_badge_text(sc))
             return self._badge[1]
         with self._lock:
             start = not self._badge_busy
@@ -127,29 +156,28 @@ class BadgeMixin:
 
     def _badge_worker(self, sc: physics.Scenario) -> None:
         try:
-            self._badge = (sc, _badge_text(sc))
+            self._badge = (sc, *_badge_text(sc))
         finally:
             self._badge_busy = False  # the next call starts another if the scenario has changed since
+
+    def badge_details(self) -> str:
+        """The averaged model's conditions as formulas with their values (the Details folder), once the
+        badge of the present scenario is ready; "" until then."""
+        done = self._badge
+        return done[2] if done is not None and done[0] is self.scenario else ""
 
 
 class _Cancelled(Exception):
     """A newer overlay request replaced this one."""
 
 
-def _badge_text(sc: physics.Scenario) -> str:
+def _badge_text(sc: physics.Scenario) -> tuple[str, str]:
+    """(the badge in words, the conditions' formulas): app.words.badge_parts."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             d = physics.derived(sc)
             conds = physics.validity_conditions(sc)
     except Exception as exc:  # never let the badge break a frame
-        return f"auto: unavailable ({exc})"
-    head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
-    if conds:
-        head += f"  \naveraged model's conditions {'hold' if all(c.holds for c in conds) else 'fail'}:"
-    lines = [f"{'OK' if c.holds else 'FAILS'}: {c}" for c in conds]
-    bound = d.get("auto_error_bound")
-    shown_bound = isinstance(bound, float) and bound > 0
-    lines.append(f"requested accuracy: {d.get('auto_accuracy', 'not set')}"
-                 + (f"; error bound of the choice {bound:.2g} rad" if shown_bound else ""))
-    return head + "  \n" + "  \n".join(lines) + f"  \n_{d['auto_reason']}_"
+        return f"auto: unavailable ({exc})", ""
+    return words.badge_parts(d, conds)

@@ -503,25 +503,27 @@ def figure_presets() -> dict[str, tuple[str, physics.Scenario]]:
     assets/scenarios/prolate_flat_spin.toml itself, which fig_flat_spin loads.
     """
     out = {
-        "seed000_fig1a_prolate": ("Seed 000 Fig. 1a: braking, prolate (theta0 = pi/3, sigma = +0.5)",
-                                  full_scenario_000(THETA0_000["a"], 0.5)),
-        "seed000_fig1b_oblate": ("Seed 000 Fig. 1b: braking, oblate (theta0 = pi/6, sigma = -0.3)",
-                                 full_scenario_000(THETA0_000["b"], -0.3)),
+        "seed000_fig1a_prolate": ("Braking a prolate body with a viscoelastic mass (theta0 = pi/3, sigma = +0.5; "
+                                  "Akulenko & Leshchenko, Fig. 1a)", full_scenario_000(THETA0_000["a"], 0.5)),
+        "seed000_fig1b_oblate": ("Braking an oblate body with a viscoelastic mass (theta0 = pi/6, sigma = -0.3; "
+                                 "Akulenko & Leshchenko, Fig. 1b)", full_scenario_000(THETA0_000["b"], -0.3)),
     }
     # the curve of each seed 004 figure that shows its claim: smallest k*, largest k*, largest Gamma1, Gamma2
     for f, (G1, G2, k), what in ((1, FIGS_004[1][2], "k* = 0.1"), (2, FIGS_004[2][2], "k* = 5"),
                                  (3, FIGS_004[3][2], "|Gamma1| = 10, k* = 0.5"),
                                  (4, FIGS_004[4][2], "|Gamma2| = 100, Gamma1 ~ 0, k* = 1")):
         for shape in SHAPES_004:
-            out[f"seed004_fig{f}_{shape}"] = (f"Seed 004 Fig. {f} ({what}), physical counterpart, {shape}",
+            body = f"{'an' if shape == 'oblate' else 'a'} {shape} body"
+            out[f"seed004_fig{f}_{shape}"] = (f"Braking {body} with a mass, a cavity and a medium ({what}; "
+                                              f"Zinkevich et al., Fig. {f}, physical counterpart)",
                                               physical_scenario_004(shape, G1, G2, k))
     r = 1.3  # a full-model point of the resonance curve, off resonance
-    out["seed002_frequencies_set_R"] = ("Seed 002 frequencies: set R at resonance (W = 2, omega_0 = 3 rad/s)",
-                                        set_R(k=_k_of(1.0)))
-    out["seed002_resonance_detuned"] = (f"Seed 002 resonance curve: set R detuned (omega_0 = {r:g} x resonant)",
-                                        resonance_point(r)[0])
-    out["seed002_averaged_eps025"] = ("Seed 002 averaged vs full: set R scaled to eps = 1/4 (overlay averaged)",
-                                      averaged_scenario(0.25, quick=False))
+    out["seed002_frequencies_set_R"] = ("Pendulum damper at resonance: its frequencies against the spin (W = 2, "
+                                        "omega_0 = 3 rad/s; Grobov 1968)", set_R(k=_k_of(1.0)))
+    out["seed002_resonance_detuned"] = (f"Pendulum damper off resonance, omega_0 = {r:g} x resonant (Grobov 1968, "
+                                        "resonance curve)", resonance_point(r)[0])
+    out["seed002_averaged_eps025"] = ("Pendulum damper, averaged against full model at eps = 1/4 (overlay "
+                                      "averaged; Grobov 1968)", averaged_scenario(0.25, quick=False))
     return out
 
 

@@ -43,19 +43,23 @@ class Shot:
     warp: float | None = None
     folders: tuple[str, ...] = field(default=())  # slider folders to open (titles in app/controls.py FOLDERS)
     scroll_to: str = "Quasirigid explorer"  # panel text brought to the top of the panel (default: its top)
+    file: str = ""  # the PNG's name in --out (default guide_<name>.png)
+    size: tuple[int, int] | None = None  # the page's size for this shot (default VIEWPORT)
 
 
 SHOTS = (
+    Shot("readme", presets.DEFAULT, seconds=20.0, file="explorer.png", size=(1400, 900)),  # README's picture
     Shot("overview", presets.DEFAULT, seconds=10.0),
-    Shot("sliders", presets.DEFAULT, seconds=3.0, scroll_to="Seed 004: mass, medium, braking"),
-    Shot("damper", "Seed 002 set R: spherical pendulum detuned (lambda_1 = Omega/2)", seconds=8.0,
+    Shot("sliders", presets.DEFAULT, seconds=3.0, scroll_to="Moving mass, medium, braking"),
+    Shot("damper", "Large spinning body, pendulum damper detuned (half the nutation frequency)", seconds=8.0,
          folders=("Pendulum damper",),
          scroll_to="Model"),
     Shot("energy_sink_oblate", "Oblate body settling", seconds=10.0, warp=1000.0),
     Shot("energy_sink_prolate", "Explorer 1's flat spin", seconds=12.0, warp=150.0),
     Shot("overlay", presets.DEFAULT, seconds=14.0, settings=(("overlay", "overlay", "averaged"),)),
-    Shot("braking", "Braking with a cavity and a medium (seed 004)", seconds=10.0),
-    Shot("figure_preset", "Seed 004 Fig. 3 (|Gamma1| = 10, k* = 0.5), physical counterpart, oblate",
+    Shot("braking", "Braking with a fluid cavity and a resisting medium", seconds=10.0),
+    Shot("figure_preset", "Braking an oblate body with a mass, a cavity and a medium (|Gamma1| = 10, k* = 0.5; "
+         "Zinkevich et al., Fig. 3, physical counterpart)",
          seconds=12.0, scroll_to="Model"),
 )
 MESH_SHOT = "mesh"
@@ -126,10 +130,14 @@ def take(session, page, shot: Shot, out: Path) -> Path:
         eng.request(action, value)
     if shot.warp is not None:
         eng.request("warp", shot.warp)
+    if shot.size is not None:
+        page.set_viewport_size({"width": shot.size[0], "height": shot.size[1]})
     _open_folders(page, shot.folders)
     page.wait_for_timeout(int(shot.seconds * 1000))
     _scroll(page, shot.scroll_to)
-    path = _save(page, out / f"guide_{shot.name}.png")
+    path = _save(page, out / (shot.file or f"guide_{shot.name}.png"))
+    if shot.size is not None:
+        page.set_viewport_size(VIEWPORT)
     _open_folders(page, shot.folders)  # close them again for the next shot
     return path
 

@@ -1,6 +1,7 @@
 """Command line: ``python -m physics run|info [SCENARIO.toml]``.
 
-Bad input exits with status 2 and one line naming the parameter; a numerical fault exits with 1.
+Bad input exits with status 2 and one line naming the parameter; a numerical fault exits with 1 and
+one line; Ctrl-C stops within a fraction of a second ("interrupted", status 130, physics/__main__.py).
 No traceback reaches the user.
 """
 
@@ -8,14 +9,19 @@ from __future__ import annotations
 
 import argparse
 import math
+import signal
 import sys
 import time
 import warnings
 from pathlib import Path
 
+import numpy as np
+
+from .blame import guarded
 from .defaults import default_scenario
 from .derived import derived
-from .errors import IntegrationFault, ScenarioError
+from .errors import IntegrationFault, NumericalFault, ScenarioError
+from .info_text import as_json, text_lines
 from .params import FIDELITIES, METHODS
 from .scenario import Scenario
 from .simulate import simulate
@@ -23,7 +29,10 @@ from .simulate import simulate
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, status 2, like every other bad input
-        self.exit(2, f"error: {message} (see 'python -m physics --help')\n")
+        # an argument may hold a newline or be huge: escape control characters and cut what is echoed
+        text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
+        text = text if len(text) <= 300 else text[:297] + "..."
+        self.exit(2, f"error: {text} (see 'python -m physics --help')\n")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -34,22 +43,48 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--out", help="write the trajectory as CSV to this file")
     run.add_argument("--fidelity", choices=FIDELITIES, help="override [run] fidelity")
     run.add_argument("--method", choices=METHODS, help="override [run] method")
-    info = sub.add_parser("info", help="print derived quantities, one 'name = value' per line")
+    info = sub.add_parser("info", help="print derived quantities, one 'name = value unit  meaning' per line")
     info.add_argument("scenario", nargs="?", help="scenario TOML file")
+    info.add_argument("--json", action="store_true", help="print them as JSON, every number to full precision")
     for p in (run, info):
         p.error = ap.error  # subparsers get the same one-line errors
     return ap
 
 
-class _Progress:
-    """Shows how far a long integration has got: in place on a terminal, every 10% in a log."""
+class _Interrupt:
+    """SIGINT handler. Raising KeyboardInterrupt while a compiled (numba) call returns makes that call fail
+    with SystemError, so during a run the handler only notes the request and the progress callback, which
+    simulate calls between compiled calls (each a fraction of a second), raises it. Elsewhere, or on a
+    second Ctrl-C, or when progress has not been reported for a second (Python code is running: raising
+    there is safe), it raises at once."""
 
     def __init__(self):
+        self.deferred = False
+        self.requested = False
+        self.seen = -math.inf  # when the progress callback last ran (perf_counter seconds)
+
+    def __call__(self, signum, frame):
+        if self.deferred and not self.requested and time.perf_counter() - self.seen < 1.0:
+            self.requested = True
+            return
+        raise KeyboardInterrupt
+
+
+class _Progress:
+    """Shows how far a long integration has got: in place on a terminal, every 10% in a log; raises
+    KeyboardInterrupt between compiled calls once Ctrl-C was pressed."""
+
+    def __init__(self, interrupt: _Interrupt | None = None):
         self.start = time.perf_counter()
         self.tty = sys.stderr.isatty()
         self.last = 0.0
+        self.interrupt = interrupt
 
     def __call__(self, fraction: float) -> None:
+        if self.interrupt is not None:
+            if self.interrupt.requested:
+                raise KeyboardInterrupt
+            self.interrupt.seen = time.perf_counter()
         if time.perf_counter() - self.start < 1.0:
             return  # short runs stay quiet
         if self.tty:
@@ -64,29 +99,47 @@ def _load(path: str | None) -> Scenario:
     return default_scenario() if path is None else Scenario.load(path)
 
 
-def _fmt(v) -> str:
-    if isinstance(v, float):
-        return "inf" if math.isinf(v) else f"{v:.17g}"
-    return str(v)
+def _run(sc: Scenario, args):
+    """simulate, with Ctrl-C deferred to the moments between compiled calls (main thread only)."""
+    interrupt = _Interrupt()
+    try:
+        previous = signal.signal(signal.SIGINT, interrupt)
+    except ValueError:  # not the main thread (an embedding program): its own handling applies
+        return simulate(sc, fidelity=args.fidelity, method=args.method, progress=_Progress())
+    interrupt.deferred = True
+    try:
+        return simulate(sc, fidelity=args.fidelity, method=args.method, progress=_Progress(interrupt))
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if interrupt.requested:
+            raise KeyboardInterrupt
 
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    with warnings.catch_warnings(record=True) as caught:
+    # numpy's overflow and divide warnings say nothing to a user: the values printed show inf or nan
+    with warnings.catch_warnings(record=True) as caught, np.errstate(all="ignore"):
         warnings.simplefilter("always")
         try:
             sc = _load(args.scenario)
             if args.command == "info":
-                for k, v in derived(sc).items():
-                    print(f"{k} = {_fmt(v)}")
+                with guarded(sc, "computing the derived quantities"):
+                    values = derived(sc)
+                print(as_json(values, sc.system) if args.json else "\n".join(text_lines(values, sc.system)))
                 return 0
             print(f"scenario: {args.scenario or 'built-in default'}", flush=True)
-            tr = simulate(sc, fidelity=args.fidelity, method=args.method, progress=_Progress())
+            tr = _run(sc, args)
         except ScenarioError as exc:
             print(f"error: {exc}", file=sys.stderr)
             return 2
+        except NumericalFault as exc:  # arithmetic that failed on accepted input
+            print(f"error: numerical fault: {exc}", file=sys.stderr)
+            return 1
         except IntegrationFault as exc:
             print(f"error: the integration stopped: {exc}", file=sys.stderr)
+            return 1
+        except MemoryError:
+            print("error: out of memory (lower run.samples or run.t_end)", file=sys.stderr)
             return 1
         finally:
             for w in caught:

@@ -9,12 +9,23 @@ check says so.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .scenario import Scenario
+
+
+def _ieee(f):
+    """Run ``f`` on numpy floats with IEEE results: an overflow gives inf and 1/0 gives inf, where Python's
+    own floats raise (a scenario may hold Omega = 1e200: F is then 0, not a crash)."""
+    @functools.wraps(f)
+    def wrapper(*args, **kwargs):
+        with np.errstate(all="ignore"):
+            return f(*args, **kwargs)
+    return wrapper
 
 
 @dataclass(frozen=True)
@@ -35,27 +46,32 @@ class Coefficients:
     omega0: float  # |w(0)|, rad/s: the "typical rotation rate" of the validity conditions
 
     @property
+    @_ieee
     def d(self) -> float:
         """Seed 000 asymmetry parameter d = (A - C)/A."""
         return (self.A - self.C) / self.A
 
     @property
+    @_ieee
     def N(self) -> float:
         """Seed 000 (3.2): N = D/A."""
         return self.D / self.A
 
     # Gamma1, Gamma2 and k* measure time in tau = lambda t: without a medium they are undefined (nan)
     @property
+    @_ieee
     def Gamma1(self) -> float:
         """Seed 004 (24), corrected: Gamma1 = H G0^2 / (lambda A^2 C)."""
         return self.H * self.G0**2 / (self.lam * self.A**2 * self.C) if self.lam > 0 else math.nan
 
     @property
+    @_ieee
     def Gamma2(self) -> float:
         """Seed 004 (24), corrected: Gamma2 = D G0^4 / (lambda A C^4)."""
         return self.D * self.G0**4 / (self.lam * self.A * self.C**4) if self.lam > 0 else math.nan
 
     @property
+    @_ieee
     def k_star(self) -> float:
         """Seed 004 (24): k* = b / (lambda G0)."""
         if self.lam > 0:
@@ -63,11 +79,13 @@ class Coefficients:
         return math.inf if self.b > 0 else math.nan
 
     @property
+    @_ieee
     def gamma(self) -> float:
         """Seed 000 (2.10), corrected: gamma = m rho^3 Lambda d|d| K^7 / (Omega^3 A^6 C^2)."""
         return self.Bq0 * self.G0**7 / (self.A * self.C**6)
 
     @property
+    @_ieee
     def sigma(self) -> float:
         """Seed 000 (3.8): sigma = 5 b C^4 / (2 N K0^5)."""
         return 5.0 * self.b * self.C**4 / (2.0 * self.N * self.G0**5) if self.N != 0 else math.inf
@@ -85,14 +103,15 @@ def initial_G(scenario: Scenario) -> tuple[np.ndarray, float, float]:
     return G / J, float(ini.G0), float(ini.theta0)
 
 
+@_ieee
 def coefficients(scenario: Scenario) -> Coefficients:
     body = scenario.body
-    A = 0.5 * (body.A + body.B)
-    C = body.C
+    A = np.float64(0.5) * (body.A + body.B)
+    C = np.float64(body.C)
     w0, G0, theta0 = initial_G(scenario)
     F = D = L = H = Lam = Bq0 = 0.0
     if scenario.mass is not None:
-        ms = scenario.mass
+        ms = _floats(scenario.mass)
         F = ms.m * ms.rho**2 * C / (ms.Omega**2 * A**3)
         D = ms.m * ms.rho**2 * ms.chi * C**3 * (A - C) / (ms.Omega**4 * A**4)
         Lam = ms.lam_q / ms.Omega**3
@@ -101,10 +120,20 @@ def coefficients(scenario: Scenario) -> Coefficients:
     P = 0.0
     if scenario.cavity is not None:
         cav = scenario.cavity
-        P = cav.P
-        L = cav.coupling * C * (A - C) / A**2
-        H = cav.coupling * (C - A) / A
-    lam = scenario.medium.lambda_ if scenario.medium is not None else 0.0
-    b = scenario.control.b if scenario.control is not None else 0.0
+        P = np.float64(cav.P)
+        L = np.float64(cav.coupling) * C * (A - C) / A**2
+        H = np.float64(cav.coupling) * (C - A) / A
+    lam = np.float64(scenario.medium.lambda_ if scenario.medium is not None else 0.0)
+    b = np.float64(scenario.control.b if scenario.control is not None else 0.0)
     return Coefficients(A=A, C=C, F=F, D=D, L=L, H=H, P=P, lam=lam, b=b, Lambda=Lam, Bq0=Bq0,
-                        G0=G0, theta0=theta0, omega0=float(np.linalg.norm(w0)))
+                        G0=np.float64(G0), theta0=theta0, omega0=np.float64(np.linalg.norm(w0)))
+
+
+class _floats:
+    """A parameter set's numbers as numpy floats (attribute access as on the original)."""
+
+    def __init__(self, params):
+        self._p = params
+
+    def __getattr__(self, name):
+        return np.float64(getattr(self._p, name))

@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 from .accuracy import auto_choice
+from .blame import guarded
 from .coefficients import coefficients
 from .scenario import Scenario
 
@@ -14,7 +15,12 @@ from .scenario import Scenario
 def derived(sc: Scenario) -> dict[str, float | str]:
     """Derived quantities by name; the ``auto_*`` keys (physics/accuracy.py ``auto_choice``) say
     which model and method fidelity ``auto`` runs, the requested accuracy, the estimated error
-    bound and the reason."""
+    bound and the reason. Arithmetic that fails on extreme input raises NumericalFault naming a key."""
+    with guarded(sc, "computing the derived quantities"):
+        return _derived(sc)
+
+
+def _derived(sc: Scenario) -> dict[str, float | str]:
     if sc.system != "moving_mass":  # the pendulum dampers of seed 002: their linear theory
         from .pendulum_linear_general import pendulum_derived
 
@@ -30,6 +36,6 @@ def derived(sc: Scenario) -> dict[str, float | str]:
     out["G0"] = co.G0
     out["theta0"] = co.theta0
     out["eps"] = co.omega0 / sc.mass.Omega if sc.mass else 0.0
-    out["Re"] = sc.cavity.a0**2 * co.omega0 / sc.cavity.nu if sc.cavity else 0.0
+    out["Re"] = sc.cavity.a0 * sc.cavity.a0 * co.omega0 / sc.cavity.nu if sc.cavity else 0.0
     out.update(auto_choice(sc))
     return out

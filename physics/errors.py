@@ -11,10 +11,11 @@ class ScenarioError(ValueError):
     """Bad input: a key, its value and the allowed range or set."""
 
     def __init__(self, key: str, value: object, allowed: str):
-        self.key = key
+        # a key or text of a hundred thousand characters (a fuzzed file) is cut, so the message stays one line
+        self.key = _cut(str(key))
         self.value = value
-        self.allowed = allowed
-        super().__init__(f"{key} = {_show(value)}: {allowed}")
+        self.allowed = _cut(str(allowed), MAX_ALLOWED)
+        super().__init__(f"{self.key} = {_show(value)}: {self.allowed}")
 
 
 class ValidityWarning(UserWarning):
@@ -30,10 +31,33 @@ class IntegrationFault(RuntimeError):
         super().__init__(f"{what} at t = {t:.17g}")
 
 
+class NumericalFault(IntegrationFault):
+    """Arithmetic or linear algebra failed on accepted input (an overflow, a singular matrix...): reported
+    as a fault like an integration's, naming the key most likely to blame (physics/blame.py)."""
+
+    def __init__(self, what: str, key: str, value: object):
+        RuntimeError.__init__(self, f"{what}; the most extreme value is {_cut(key)} = {_show(value)}: "
+                              "bring it nearer the scenario's other scales")
+        self.what, self.t, self.key, self.value = what, 0.0, key, value
+
+
 def _show(value: object) -> str:
     if isinstance(value, str) and value.startswith("("):
         return value  # a placeholder such as "(missing)", not a value the user typed
     if isinstance(value, int) and value.bit_length() > 256:  # repr() refuses ints of more than 4300 digits
         return f"(an integer of about {int(value.bit_length() * 0.30103) + 1} digits)"
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
+    try:
+        text = repr(value)
+    except RecursionError:  # a table nested thousands deep (a long dotted key): say what it is
+        return f"(a {type(value).__name__} nested too deeply to show)"
+    except ValueError:  # repr() refuses an integer of more than 4300 digits inside a list or table
+        return f"(a {type(value).__name__} holding a number too long to show)"
+    return _cut(text)
+
+
+MAX_SHOWN = 80  # characters of a key or value echoed back: a message stays one readable line
+MAX_ALLOWED = 400  # characters of the "allowed" part (it may list keys, or quote a parser's message)
+
+
+def _cut(text: str, limit: int = MAX_SHOWN) -> str:
+    return text if len(text) <= limit else text[:limit - 3] + "..."

@@ -3,13 +3,15 @@
 ``LiveRun(scenario)`` holds the model, its parameter vector, the state y, the time t and the
 compiled DOP853's step size. ``advance(dt)`` integrates [t, t + dt] and returns the rows reached as a
 Trajectory; the step size carries over, so pieces cost what one long run costs and agree with
-``simulate`` to the integrator's tolerance. ``retune(scenario)`` swaps the parameters and keeps the
-state when the state layout allows it. The end of braking and integration faults (a non-finite state,
+``simulate`` to the integrator's tolerance. ``retune(scenario)`` swaps the parameters (and the model, when
+the fidelity changes) and carries the state over. The end of braking and integration faults (a non-finite state,
 step-size underflow, the gimbal singularity, and a problem too stiff for the explicit integrator: a call
 that runs out of steps while they are held at the stability limit) are recorded in ``status`` and
-``message``, never raised: a viewer shows them and keeps the last good state.
+``message``, never raised: a viewer shows them and keeps the last good state. ``retune`` keeps the inertial
+angular momentum K and the attitude across a change (``physics.carry``) and reports the change of E.
 
-The closed fidelity has no state to step: its rows are evaluated from t = 0 at the times asked for.
+The closed fidelity has no state to step: its rows are evaluated from its start (t = 0, or where a retune
+restarted it from the state then, ``origin``) at the times asked for.
 A scenario's ``run.method`` RK4, RK8 or midpoint (with ``run.dt``) steps with that compiled fixed-step
 method instead of DOP853, as ``simulate`` does.
 """
@@ -21,9 +23,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .carry import CannotCarry, carry_state
+from .closed_restart import ClosedOrigin, carry_to_closed
 from .compiled import dispatch as kernels
 from .compiled import dop853, fixed, midpoint
 from .errors import IntegrationFault, ScenarioError
+from .kernel_build import pick
 from .models.base import Model, get_model
 from .params import FIXED_STEP_METHODS
 from .scenario import Scenario
@@ -46,13 +51,14 @@ def spectral_radius(kernel: int, t: float, y: np.ndarray, p: np.ndarray) -> floa
     finite differences (2 evaluations per iteration). Used only when a call runs out of steps."""
     y = np.ascontiguousarray(y, dtype=float)
     f0, f1 = np.empty_like(y), np.empty_like(y)
-    kernels.rhs(kernel, t, y, p, f0)
+    rhs = pick(kernels.rhs)
+    rhs(kernel, t, y, p, f0)
     v = np.random.default_rng(0).standard_normal(y.size)
     v /= np.linalg.norm(v)
     eps = 1e-7 * max(1.0, float(np.linalg.norm(y)))
     radius, previous = 0.0, None
     for _ in range(POWER_ITERATIONS):
-        kernels.rhs(kernel, t, y + eps * v, p, f1)
+        rhs(kernel, t, y + eps * v, p, f1)
         w = (f1 - f0) / eps
         norm = float(np.linalg.norm(w))
         if not math.isfinite(norm) or norm == 0.0:
@@ -118,6 +124,10 @@ class LiveRun:
         self.nfev = 0
         self.status = RUNNING
         self.message = ""
+        self.energy_change: float | None = None  # what the last retune did to E (J); None after a (re)start
+        self.edit = None  # the last retune's physics.carry.Carried
+        self.edit_note = ""  # why the last retune could not keep the state
+        self.origin: ClosedOrigin | None = None  # where a closed form was restarted with the state kept
         self.rtol = scenario.run.rtol
         self.b = float(scenario.control.b) if scenario.control else 0.0
         self.lam = float(scenario.medium.lambda_) if scenario.medium else 0.0
@@ -133,10 +143,13 @@ class LiveRun:
         if scenario.run.method in FIXED_STEP_METHODS:
             check_fixed_method(self.model, scenario, scenario.run.method, self.b, self.lam)
         self.y = np.asarray(self.model.initial_state(scenario, self.p), dtype=float).copy()
+        _require_finite(scenario, self.y, "the initial state")
         self.atol = self.rtol * ATOL_FACTOR * max(1.0, float(np.max(np.abs(self.y))))
         self._G0_known = self.b > 0
-        self.G0 = float(kernels.braking_norm(self.model.kernel, self.y, self.p)) if self.b > 0 else 1.0
+        self.G0 = float(pick(kernels.braking_norm)(self.model.kernel, self.y, self.p)) if self.b > 0 else 1.0
         self.last = self._observe(np.array([0.0]), self.y[None, :])
+        _require_finite(scenario, np.array([self.last.theta[0], self.last.K[0], self.last.E[0]]),
+                        "theta, |K| and E at t = 0")
 
     def _set_params(self, scenario: Scenario) -> None:
         self.p = np.asarray(self.model.pack(scenario), dtype=float)
@@ -149,35 +162,93 @@ class LiveRun:
         self._start(self.scenario, self.requested)
 
     def retune(self, scenario: Scenario, fidelity: str | None = None, *, keep_state: bool = True) -> bool:
-        """Run ``scenario`` from now on. Returns True when the current state was kept (same model,
-        same state layout, ``keep_state``), False when it restarted from t = 0. Raises
-        ScenarioError (before changing anything) when the scenario cannot run."""
+        """Run ``scenario`` from now on. Returns True when the current state was carried over, False when
+        it restarted from t = 0. Raises ScenarioError (before changing anything) when the scenario cannot run.
+
+        With ``keep_state`` the state is carried (``physics.carry``): the attitude, the internal coordinates
+        that still exist and the inertial angular momentum K are kept, omega is solved for, t goes on, and
+        ``energy_change`` is what the edit did to E (J). The moving mass's closed form has no state: it is
+        restarted at t from the present K and attitude (``physics.closed_restart``). The spherical pendulum's
+        averaged solution starts its bob at rest, so a change to it restarts from t = 0, and ``edit_note``
+        says so. ``energy_change`` is None after a restart."""
         res = resolve(scenario, fidelity)
         if scenario.run.method in FIXED_STEP_METHODS and res.model.solve is None:
             check_fixed_method(res.model, scenario, scenario.run.method,
                                float(scenario.control.b) if scenario.control else 0.0,
                                float(scenario.medium.lambda_) if scenario.medium else 0.0)
-        same = (keep_state and res.model is self.model and self.model.solve is None
-                and self.status != FAULT)
-        if same:
-            p = np.asarray(self.model.pack(scenario), dtype=float)
-            y0 = self.model.initial_state(scenario, p)
-            same = p.shape == self.p.shape and np.shape(y0) == self.y.shape
-        if not same:
-            self._start(scenario, fidelity)
+        carried, origin, note = None, None, ""
+        if keep_state and self.status != FAULT:
+            y_old = self.y if self.model.solve is None else None
+            try:
+                if res.model.solve is None:
+                    carried = carry_state(self.model, self.p, self.scenario, y_old, res.model, scenario, last=self.last)
+                else:
+                    origin, carried = carry_to_closed(self.model, self.p, self.scenario, y_old, res.model, scenario,
+                                                      self.t, last=self.last)
+            except CannotCarry as exc:
+                note = f"state not kept: {exc}; restarted from t = 0"
+        if carried is None:
+            before = dict(self.__dict__)
+            try:
+                self._start(scenario, fidelity)
+            except ScenarioError:
+                self.__dict__.update(before)  # refused: the run goes on as it was
+                raise
+            self.energy_change, self.edit, self.edit_note = None, None, note
             return False
+        _require_finite(scenario, carried.y, "the state carried over")
+        if origin is not None:
+            return self._go_on_closed(scenario, fidelity, res, origin, carried)
+        self.origin = None
+        if res.model is not self.model:
+            self.model, self.fidelity = res.model, res.fidelity
+            self.unchecked_steps = 0
+            self.atol = scenario.run.rtol * ATOL_FACTOR * max(1.0, float(np.max(np.abs(carried.y))))
+        self.y = carried.y
+        self.energy_change, self.edit, self.edit_note = carried.dE, carried, ""
         self.scenario = scenario
         self.requested = fidelity or scenario.run.fidelity
         self.reason = res.reason
         self._set_params(scenario)
         if self.b > 0 and not self._G0_known:  # braking switched on now: measure its end from here
             self._G0_known = True
-            self.G0 = float(kernels.braking_norm(self.model.kernel, self.y, self.p))
+            self.G0 = float(pick(kernels.braking_norm)(self.model.kernel, self.y, self.p))
         if self.status == BRAKED and self.b == 0.0:
             self.status, self.message = RUNNING, ""
         self.h = 0.0  # the old step size may not suit the new parameters; let the integrator guess
         self.last = self._observe(np.array([self.t]), self.y[None, :])
         return True
+
+    def _go_on_closed(self, scenario: Scenario, fidelity: str | None, res: Resolved, origin: ClosedOrigin,
+                      carried) -> bool:
+        """Go on from now with a closed form restarted at the present K and attitude (physics.closed_restart)."""
+        self.scenario, self.requested = scenario, fidelity or scenario.run.fidelity
+        self.model, self.fidelity, self.reason = res.model, res.fidelity, res.reason
+        self.p, self.y, self.h, self.atol = np.zeros(0), np.zeros(0), 0.0, 0.0
+        self.rtol = scenario.run.rtol
+        self.b = float(scenario.control.b) if scenario.control else 0.0
+        self.lam = float(scenario.medium.lambda_) if scenario.medium else 0.0
+        self.G0, self._G0_known = 1.0, False
+        self.origin = origin
+        if self.status == BRAKED and self.b == 0.0:
+            self.status, self.message = RUNNING, ""
+        self.last = self._closed(np.array([self.t]))
+        self.energy_change = float(self.last.E[0]) - carried.E_before
+        self.edit, self.edit_note = carried, ""
+        return True
+
+    def momentum(self) -> np.ndarray:
+        """The inertial angular momentum K (3,) now, kg m^2/s. A closed form keeps K's direction fixed in space:
+        along G0 (sin theta0, 0, cos theta0) from its start, turned by where it was restarted."""
+        if self.model.solve is None:
+            return np.asarray(pick(self.model.invariants)(self.y[None, :], self.p)[0][0], dtype=float)
+        G = float(self.last.K[0])
+        if self.origin is not None:
+            return self.origin.momentum(G)
+        from .coefficients import initial_G
+
+        _, _, th0 = initial_G(self.scenario)
+        return G * np.array([math.sin(th0), 0.0, math.cos(th0)])
 
     # ---- stepping -----------------------------------------------------------------------
     def advance(self, dt: float, samples: int = 1) -> Trajectory:
@@ -187,6 +258,10 @@ class LiveRun:
         if self.status != RUNNING or not dt > 0:
             return self._empty()
         samples = max(1, int(samples))
+        if self.model.solve is None and self.scenario.run.method in FIXED_STEP_METHODS:
+            # a fixed step has no step budget of its own: at most MAX_STEPS_PER_CALL steps a call, so a tiny
+            # run.dt (1e-12 s) slows the run instead of freezing its caller (a tab's loop) for hours
+            dt = min(dt, MAX_STEPS_PER_CALL * float(self.scenario.run.dt))
         times = self.t + dt * np.arange(1, samples + 1) / samples
         if self.model.solve is not None:
             return self._advance_closed(times)
@@ -195,17 +270,18 @@ class LiveRun:
         if method in FIXED_STEP_METHODS:
             dt_step = float(self.scenario.run.dt)
             if method == "midpoint":
-                out = midpoint.integrate(np.ascontiguousarray(self.y), self.p, t_out, dt_step)
+                out = pick(midpoint.integrate)(np.ascontiguousarray(self.y), self.p, t_out, dt_step)
             else:
-                out = fixed.run(fixed.TABLEAUS[method], self.model.kernel, self.y, self.p, t_out, dt_step, self.b,
-                                self.lam, self.G0)
+                out = pick(fixed.run)(fixed.TABLEAUS[method], self.model.kernel, self.y, self.p, t_out, dt_step,
+                                      self.b, self.lam, self.G0)
             Y, n, status, t_last, y_last, nfev, nsteps = out
             h = dt_step
             if status == midpoint.NO_CONVERGENCE and method == "midpoint":
                 status = dop853.MODEL_FAULT  # reported as a fault below, with the midpoint's own words
                 self.message = str(IntegrationFault(midpoint.STATUS_TEXT, float(t_last)))
         else:
-            Y, n, status, t_last, y_last, nfev, nsteps, h = dop853.integrate(
+            # compiled, or its interpreted twin while the compiled kernels are being built (physics.kernel_build)
+            Y, n, status, t_last, y_last, nfev, nsteps, h = pick(dop853.integrate)(
                 self.model.kernel, self.y, self.p, t_out, self.rtol, self.atol, self.b, self.lam,
                 MAX_STEPS_PER_CALL, self.h, self.G0)
         self.nfev += int(nfev)
@@ -271,6 +347,8 @@ class LiveRun:
         return tr
 
     def _closed(self, times: np.ndarray) -> Trajectory:
+        if self.origin is not None:
+            return self.origin.evaluate(self.model, times)
         t_all = np.concatenate([[0.0], times]) if times[0] > 0 else times
         tr = self.model.solve(self.scenario, t_all)
         if times[0] > 0:
@@ -278,7 +356,7 @@ class LiveRun:
         return tr
 
     def _observe(self, t: np.ndarray, Y: np.ndarray) -> Trajectory:
-        return self.model.observe(np.asarray(t, dtype=float), np.ascontiguousarray(Y), self.p, self.scenario)
+        return pick(self.model.observe)(np.asarray(t, dtype=float), np.ascontiguousarray(Y), self.p, self.scenario)
 
     def _empty(self) -> Trajectory:
         return self.last.slice(0, 0)
@@ -302,3 +380,14 @@ class LiveRun:
 
 
 __all__ = ["BRAKED", "FAULT", "RUNNING", "LiveRun", "Resolved", "resolve"]
+
+
+def _require_finite(scenario: Scenario, values: np.ndarray, what: str) -> None:
+    """ScenarioError, naming the scenario's most extreme value, when ``values`` are not all finite: a run must
+    never start (or go on) from NaN or inf (G0 = 1e200 gave E = inf and theta = NaN that a viewer showed)."""
+    if np.all(np.isfinite(values)):
+        return
+    from .blame import most_extreme
+
+    key, value = most_extreme(scenario)
+    raise ScenarioError(key, value, f"makes {what} non-finite (overflow): choose a value nearer 1 in size")

@@ -17,6 +17,7 @@ METHODS = ("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA", "RK4", "RK8", "mid
 FIXED_STEP_METHODS = ("RK4", "RK8", "midpoint")  # compiled fixed-step methods: they need run.dt
 LAWS = ("K", "Jw")
 MASS_STATES = ("rest", "quasistatic")
+DET_MIN, DET_MAX = 2.3e-308, 1.7e308  # the normal float range
 
 
 def _number(key: str, value: object) -> float:
@@ -68,6 +69,14 @@ class Body:
         B = self.A if self.B is None else positive("body.B", self.B)
         object.__setattr__(self, "B", B)
         A, C = self.A, self.C
+        # The models invert the inertia tensor: its determinant A B C must be a normal float (neither
+        # overflow nor underflow), which bounds the moments' sizes together, not each one alone.
+        det = A * B * C
+        if not DET_MIN <= det <= DET_MAX:
+            key, value = max((("body.A", A), ("body.B", B), ("body.C", C)), key=lambda kv: abs(math.log10(kv[1])))
+            raise ScenarioError(key, value, f"is out of range: the product A B C = {det:.3g} of the principal "
+                                f"moments (the inertia tensor's determinant) must be within [{DET_MIN:g}, {DET_MAX:g}] "
+                                "(kg m^2)^3")
         # A physical inertia obeys the triangle inequality; equality is a flat plate or a rod.
         for key, big, s in (("body.A", A, B + C), ("body.B", B, A + C), ("body.C", C, A + B)):
             if big > s * (1 + 1e-12):
@@ -112,11 +121,15 @@ class Cavity:
         object.__setattr__(self, "beta", nonneg("cavity.beta", self.beta))
         object.__setattr__(self, "nu", positive("cavity.nu", self.nu))
         object.__setattr__(self, "a0", positive("cavity.a0", self.a0))
+        if not math.isfinite(self.P):
+            raise ScenarioError("cavity.a0", self.a0, f"must be at most {A0_MAX:.3g} m: the shape factor "
+                                "8 pi a0^7 / 525 must stay finite")
 
     @property
     def P(self) -> float:
         """Shape factor P = 8 pi a0^7 / 525 of a spherical cavity (seed 004, after eq. (4))."""
-        return 8.0 * math.pi * self.a0**7 / 525.0
+        a0 = self.a0
+        return 8.0 * math.pi * (a0 * a0 * a0 * a0 * a0 * a0 * a0) / 525.0  # a product: inf, not OverflowError
 
     @property
     def coupling(self) -> float:
@@ -232,6 +245,8 @@ class Run:
             return np.asarray(self.t_eval, dtype=float)
         return np.linspace(0.0, self.t_end, self.samples)
 
+
+A0_MAX = 1.7e308 ** (1 / 7) * (525.0 / (8.0 * math.pi)) ** (1 / 7)  # m: where the cavity's shape factor P overflows
 
 # TOML key -> dataclass field, where the paper's name is a Python keyword.
 RENAMED = {("medium", "lambda"): "lambda_"}

@@ -115,6 +115,7 @@ class PlanePendulum:
         """(hinge point from O, unit hinge axis n, unit arm direction e0), body frame."""
         if self.preset is None:
             n, e = np.array(self.axis), np.array(self.arm)
+            n, e = n / np.max(np.abs(n)), e / np.max(np.abs(e))  # scaled first: |[5e-324, 0, 0]| is 0 in floats
             return np.array(self.hinge, dtype=float), n / np.linalg.norm(n), e / np.linalg.norm(e)
         c, s = math.cos(self.azimuth), math.sin(self.azimuth)
         radial, tangential, z = np.array([c, s, 0.0]), np.array([-s, c, 0.0]), np.array([0.0, 0.0, 1.0])

@@ -25,6 +25,7 @@ import numpy as np
 from numba import njit
 
 from .coefficients import initial_G
+from .errors import ScenarioError
 from .models.base import Model, register
 from .pendulum_linear import SphericalLinear, spherical_linear
 from .pendulum_system import pendulum_system
@@ -42,6 +43,7 @@ DETUNING_MAX = 0.05  # |lambda_1 - Omega| / |Omega|: the rate error is ~ this ra
 NONLINEAR_MAX = 0.1  # theta0^2 |Omega| / g: amplitude detuning against coupling; tau_e moves ~ half this
 ASYM_MAX = 1e-9  # |A - B| / A: the averaged equations are for a symmetric carrier
 QUAT_STEP = 0.05  # rad of rotation per Magnus step of the attitude: error ~1e-10 over 100 turns
+MAX_SUBSTEPS = 2e6  # Magnus steps per run (about 400 MB of work arrays), as simulate bounds its own steps
 
 
 class AveragedCoefficients:
@@ -136,7 +138,12 @@ def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray)
     Phi = np.abs(np.einsum("nij,j->ni", co.propagator(np.array([0.0])), u0))[0, 0]
     rate = math.hypot(W, Phi) + abs(co.Omega) + abs(co.sigma) + 1e-300
     dt = np.diff(t, prepend=0.0)
-    n_sub = np.maximum(np.ceil(dt * rate / QUAT_STEP), 1).astype(np.int64)
+    n_float = np.maximum(np.ceil(dt * rate / QUAT_STEP), 1)
+    if not float(np.sum(n_float)) <= MAX_SUBSTEPS:  # each sub-step holds a few arrays' rows: bound the memory
+        raise ScenarioError("run.t_end", float(t[-1]), f"needs {float(np.sum(n_float)):.3g} attitude steps of "
+                            f"{QUAT_STEP} rad in the averaged model, more than its budget of {MAX_SUBSTEPS:.0f}: "
+                            "shorten t_end")
+    n_sub = n_float.astype(np.int64)
     n_sub[dt == 0] = 0
     starts = np.repeat(t - dt, n_sub)
     h = np.repeat(np.where(n_sub > 0, dt / np.maximum(n_sub, 1), 0.0), n_sub)
@@ -160,6 +167,9 @@ def solve_averaged(sc: Scenario, t: np.ndarray) -> Trajectory:
     t = np.asarray(t, dtype=float)
     system = pendulum_system(sc)
     p = spherical_linear(system)
+    if not p.omega0 > 0:
+        raise ScenarioError("pendulum.k", sc.pendulum.k, "must be > 0 for the averaged fidelity: it averages about "
+                            "the spring's frequency omega_0, which k = 0 does not have; use the full fidelity")
     co = AveragedCoefficients(p)
     w0, G0, _ = initial_G(sc)
     W = float(w0[2])
@@ -196,6 +206,8 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
     system = pendulum_system(sc)
     A, B, C = np.diag(system.I_c)
     p = spherical_linear(system)
+    if not p.omega0 > 0:  # no spring: no resonance to average about
+        return [Condition("1/omega_0 (k = 0: no spring frequency)", math.inf, 0.0)]
     co = AveragedCoefficients(p)
     _, _, theta0 = initial_G(sc)
     g = math.sqrt(abs(co.kappa1 * co.kappa2))

@@ -98,6 +98,13 @@ def pendulum_system(sc: Scenario, *, resolve: bool = True) -> PendulumSystem:
     return system
 
 
+def resolved_stiffness(sc: Scenario) -> tuple[float, ...]:
+    """Each bob's spring k (N m/rad), a tuned one ("resonant", "optimal") resolved as the models resolve it:
+    cheap (no decay-rate analysis), for a viewer that shows the k a tuning chose. ScenarioError when a
+    tuning has no solution (a prolate carrier asked to tune "resonant")."""
+    return tuple(float(b.k) for b in pendulum_system(sc).bobs)
+
+
 def resonant_stiffness(system: PendulumSystem, bob: Bob) -> float:
     """k that puts mode 1 of the spherical pendulum on the free nutation (MODELS B.5, seed 002 (14)):
     symmetric carrier k = mu l^2 (C W/A)^2; asymmetric k = mu l^2 W^2 (1 + sqrt(s1 s2))^2.

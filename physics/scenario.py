@@ -10,7 +10,9 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import os
 import re
+import stat
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +28,13 @@ FIELD = {"plane_pendulum": "plane_pendulums"}  # table name -> Scenario attribut
 
 BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")  # TOML's bare keys; others are shown quoted
 MAX_BYTES = 1_000_000  # a scenario is a few hundred bytes; a cap keeps uploads harmless
+# tomllib's cost grows with the square of a dotted key's depth (20,000 levels: 33 s, 1.5 GB), so the
+# shape is checked on the raw text before parsing. A scenario's deepest key is table.key (two parts) and
+# it has a few dozen keys; these caps leave a wide margin.
+MAX_KEY_PARTS = 8  # parts of one dotted key or table header: a.b.c has 3
+MAX_KEYS = 2_000  # key/value lines and table headers in one file
+MAX_NESTING = 32  # arrays and inline tables inside one another
+BOM = "\ufeff"  # a UTF-8 byte-order mark, written by some editors: not part of the TOML
 
 
 @dataclass(frozen=True)
@@ -46,6 +55,11 @@ class Scenario:
         if self.mass is not None and self.mass.m >= self.body.M:
             raise ScenarioError("mass.m", self.mass.m,
                                 f"must be less than body.M = {self.body.M:g} (M is the total mass)")
+        for where, bob, place, reach in _bob_reaches(self):  # the bobs' moments about O must be finite numbers
+            if not math.isfinite(bob.m * reach * reach):
+                field = "l" if bob.l >= reach / 2 else place
+                raise ScenarioError(f"{where}.{field}", getattr(bob, field), "is too large: the bob's moment about "
+                                    f"O, m (|r| + l)^2 = {bob.m:.3g} * ({reach:.3g})^2, must stay finite")
         parts = [name for name, present in (("mass", self.mass is not None), ("pendulum", self.pendulum is not None),
                                             ("plane_pendulum", bool(self.plane_pendulums))) if present]
         if len(parts) > 1:
@@ -102,11 +116,16 @@ class Scenario:
             raise ScenarioError("scenario", type(text).__name__, "must be TOML text (str)")
         if len(text) > MAX_BYTES:
             raise ScenarioError("scenario", f"{len(text)} bytes", f"must be at most {MAX_BYTES} bytes")
+        text = text.removeprefix(BOM)
+        check_shape(text)
         try:
             data = tomllib.loads(text)
         except RecursionError:  # arrays or inline tables nested thousands deep
             raise ScenarioError("scenario", "(TOML)", "nests arrays or inline tables too deeply") from None
         except ValueError as exc:  # TOMLDecodeError, and int() refusing a literal of more than 4300 digits
+            nested = _quote_nested_long_integers(text) if "digits" in str(exc) else None
+            if nested is not None:  # inside an array or inline table: the wrong type, named with its key below
+                return cls.from_toml(nested)
             raise ScenarioError("scenario", "(TOML)", f"is not valid TOML: {exc}") from None
         return cls.from_dict(data)
 
@@ -114,11 +133,10 @@ class Scenario:
     def load(cls, path: str | Path) -> Scenario:
         p = Path(path)
         try:
-            with p.open("rb") as f:  # read at most the cap: a device such as /dev/zero never ends
-                data = f.read(MAX_BYTES + 1)
+            data = _read_capped(p)
             if len(data) > MAX_BYTES:
                 raise ScenarioError("scenario", str(p), f"file must be at most {MAX_BYTES} bytes")
-            text = data.decode("utf-8")
+            text = data.decode("utf-8-sig")  # a leading byte-order mark is dropped, as the upload does
         except (OSError, UnicodeDecodeError, ValueError) as exc:  # ValueError: a path with a NUL byte
             if isinstance(exc, ScenarioError):
                 raise
@@ -162,6 +180,93 @@ class Scenario:
             if table == "initial" and key in ("G0", "theta0"):
                 data["initial"].pop("omega", None)
         return Scenario.from_dict(data)
+
+
+def _bob_reaches(sc: Scenario):
+    """(key prefix, bob, the key placing its pivot, a bound |pivot| + l on its distance from O) per pendulum."""
+    if sc.pendulum is not None:
+        yield "pendulum", sc.pendulum, "h", abs(sc.pendulum.h) + sc.pendulum.l
+    for i, pp in enumerate(sc.plane_pendulums):
+        if pp.preset is None:
+            yield f"plane_pendulum[{i}]", pp, "hinge", max(abs(x) for x in pp.hinge) * math.sqrt(3.0) + pp.l
+        else:
+            yield f"plane_pendulum[{i}]", pp, "R" if pp.R >= abs(pp.z_p) else "z_p", pp.R + abs(pp.z_p) + pp.l
+
+
+def _read_capped(p: Path) -> bytes:
+    """At most MAX_BYTES + 1 bytes of ``p``. Opened without blocking, and a FIFO or socket refused: reading
+    one waits for a writer forever; a device such as /dev/zero never ends, so only the cap is read."""
+    fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        mode = os.fstat(fd).st_mode
+        if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
+            raise ScenarioError("scenario", str(p), "is a pipe or socket, not a file; give the path of a TOML file")
+        chunks, size = [], 0
+        while size <= MAX_BYTES:
+            chunk = os.read(fd, MAX_BYTES + 1 - size)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
+
+
+HEADER = re.compile(r"^[ \t]*\[", re.MULTILINE)  # [table] and [[array]] headers
+_PART = r"""(?:[A-Za-z0-9_-]++|"[^"\n]*+"|'[^'\n]*+')"""  # possessive: no backtracking over a long word
+LONG_KEY = re.compile(rf"(?<![A-Za-z0-9_-]){_PART}(?:[ \t]*+\.[ \t]*+{_PART}){{{MAX_KEY_PARTS},}}")
+NESTING = re.compile(r"[\[\]{}\"'#\n]")
+
+
+def check_shape(text: str) -> None:
+    """Refuse, before parsing, TOML whose shape alone would cost more than a scenario can need: too many
+    keys, dotted keys with too many parts, arrays or inline tables nested too deeply. '=', dots and
+    brackets inside strings or comments may be over-counted; a scenario file is far inside the caps."""
+    depth, quote = 0, None
+    for m in NESTING.finditer(text):  # brackets outside strings and comments
+        c = m.group()
+        if quote == "#":
+            quote = None if c == "\n" else quote
+        elif quote:
+            if c == "\n" or c == quote and text[m.start() - 1] != "\\":
+                quote = None
+        elif c in "\"'#":
+            quote = c
+        elif c in "[{":
+            depth += 1
+            if depth > MAX_NESTING:
+                raise ScenarioError("scenario", "(TOML)",
+                                    f"nests arrays or inline tables too deeply (more than {MAX_NESTING} levels)")
+        elif c in "]}":
+            depth = max(0, depth - 1)
+    keys = text.count("=") + len(HEADER.findall(text))
+    if keys > MAX_KEYS:
+        raise ScenarioError("scenario", f"{keys} keys", f"must have at most {MAX_KEYS} keys and tables")
+    long = LONG_KEY.search(text)
+    if long:
+        raise ScenarioError("scenario", long.group(), f"a dotted key must have at most {MAX_KEY_PARTS} parts")
+
+
+LONG_INTEGER = re.compile(r"[0-9][0-9_]{4300,}")  # more digits than int() converts
+
+
+def _quote_nested_long_integers(text: str) -> str | None:
+    """``text`` with each over-long integer inside an array or inline table turned into a string saying so,
+    so that parsing goes on and the table key holding it is named; None when one is a key's plain value
+    (then the parser's own message, which names the limit, is the clearest)."""
+    plain = False
+
+    def quote(m: re.Match) -> str:
+        nonlocal plain
+        before = text[:m.start()].rstrip(" \t+-")
+        line = before[before.rfind("\n") + 1:]
+        depth = line.count("[") + line.count("{") - line.count("]") - line.count("}")
+        plain = plain or (before.endswith("=") and depth == 0)
+        return json.dumps(f"(an integer of {sum(c.isdigit() for c in m.group())} digits)")
+
+    out = LONG_INTEGER.sub(quote, text)
+    return None if plain or out == text else out
 
 
 def _name(key: object) -> str:

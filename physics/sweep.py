@@ -34,8 +34,10 @@ import numpy as np
 from .coefficients import initial_G
 from .errors import ScenarioError
 from .metrics import METRICS
+from .models.base import REGISTRY
 from .scenario import ARRAY_TABLES, SECTIONS, Scenario, _toml_names
 from .simulate import simulate
+from .validity import closed_form_available
 
 NOT_NUMERIC = {"control.law", "run.fidelity", "run.method", "run.t_eval", "run.samples", "initial.omega",
                "initial.mass_state", "plane_pendulum.preset", "plane_pendulum.hinge", "plane_pendulum.axis",
@@ -160,6 +162,26 @@ def point_scenario(base: Scenario, values: dict[str, float]) -> Scenario:
             section.pop("G0", None), section.pop("theta0", None)
         section[key] = value
     return Scenario.from_dict(data)
+
+
+def check_point(base: Scenario, values: dict[str, float]) -> Scenario:
+    """``point_scenario(base, values)`` plus the checks a run makes before it integrates: the model's
+    parameter vector and initial state (e.g. m rho^2/(1 - m/M) < A, which only the moving-mass models
+    check). With fidelity "auto" every model of the system is checked, since the run may pick any.
+    Raises the ScenarioError the point's run would raise; integrates nothing (microseconds)."""
+    sc = point_scenario(base, values)
+    fid = sc.run.fidelity
+    if fid == "closed":
+        ok, why = closed_form_available(sc)
+        if not ok:
+            raise ScenarioError("run.fidelity", "closed", f"is not available for this scenario: {why}")
+    models = [m for m in REGISTRY.values() if m.system == sc.system and (fid == "auto" or m.fidelity == fid)]
+    for model in models:
+        if model.pack is not None:
+            p = model.pack(sc)
+            if model.initial_state is not None:
+                model.initial_state(sc, p)
+    return sc
 
 
 # ---- one point --------------------------------------------------------------------------------------
@@ -468,4 +490,5 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
                             "executor": "dask" if dask is not None else executor})
 
 
-__all__ = ["SweepTable", "axis_values", "numeric_keys", "point_scenario", "resolve_key", "run_point", "sweep"]
+__all__ = ["SweepTable", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "run_point",
+           "sweep"]

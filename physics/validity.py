@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .coefficients import coefficients
+from .coefficients import _floats, _ieee, coefficients
 from .scenario import Scenario
 
 EPS_MAX = 0.1  # Omega^2 >> w^2
@@ -35,12 +35,13 @@ class Condition:
         return f"{self.name} = {self.value:.3g} {sign} {self.limit:g}"
 
 
+@_ieee
 def averaged_conditions(sc: Scenario) -> list[Condition]:
     co = coefficients(sc)
     w = co.omega0
     out = []
     if sc.mass is not None:
-        ms = sc.mass
+        ms = _floats(sc.mass)
         out.append(Condition("eps = |w0|/Omega", w / ms.Omega, EPS_MAX))
         if ms.chi > 0:
             out.append(Condition("chi |w0| / Omega^2", ms.chi * w / ms.Omega**2, COUPLING_MAX))
@@ -49,7 +50,7 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
             decay = w / ms.chi if ms.chi > 0 else float("inf")
             out.append(Condition("|w0|/chi (free oscillation decay)", decay, DECAY_MAX))
     if sc.cavity is not None:
-        out.append(Condition("Re = a0^2 |w0| / nu", sc.cavity.a0**2 * w / sc.cavity.nu, RE_MAX))
+        out.append(Condition("Re = a0^2 |w0| / nu", sc.cavity.a0 * sc.cavity.a0 * w / sc.cavity.nu, RE_MAX))
     if sc.medium is not None:
         out.append(Condition("lambda / |w0|", co.lam / w, SLOW_MAX))
     if sc.control is not None:

@@ -53,7 +53,9 @@ class FakeGui:
         return self._add(Handle("progress", value=value))
 
     def add_plotly(self, figure, **kw):
-        return self._add(Handle("plotly", figure=figure))
+        h = self._add(Handle("plotly", figure=figure))
+        h.kw = kw
+        return h
 
     def button(self, prefix):
         return next(h for h in self.handles if h.kind == "button" and h.label.startswith(prefix))

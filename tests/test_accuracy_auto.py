@@ -1,6 +1,8 @@
 """Fidelity "auto" against a requested accuracy (issue 5, physics/accuracy.py): the cheapest model
 whose measured error bound meets run.accuracy, checked against the full model."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -92,10 +94,11 @@ def test_info_prints_model_method_accuracy_and_bound(tmp_path):
     sc = _with_accuracy(moving_mass(0.05, t_end=100.0, rtol=1e-9), 1e-5)  # conditions hold, bound ~1e-3
     path = tmp_path / "auto.toml"
     path.write_text(sc.to_toml())
-    res = subprocess.run([sys.executable, "-m", "physics", "info", str(path)], capture_output=True, text=True,
-                         cwd=Path(__file__).resolve().parents[1], timeout=300)
+    # --json: the text output is for people (units, meanings, 6 digits) since issue 17; JSON keeps 17 digits
+    res = subprocess.run([sys.executable, "-m", "physics", "info", "--json", str(path)], capture_output=True,
+                         text=True, cwd=Path(__file__).resolve().parents[1], timeout=300)
     assert res.returncode == 0, res.stderr
-    values = dict(line.split(" = ", 1) for line in res.stdout.splitlines())
+    values = {k: v["value"] for k, v in json.loads(res.stdout).items()}
     assert values["auto_model"] == "moving_mass/full"
     assert values["auto_method"] == "DOP853 (compiled), rtol = 1e-09"
     assert float(values["auto_accuracy"]) == 1e-5

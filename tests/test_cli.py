@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -34,12 +35,25 @@ def test_run_default_writes_full_precision_csv(tmp_path):
 
 
 def test_info_prints_every_derived_quantity():
-    res = _cli("info", str(ROOT / "assets/scenarios/braking_cavity_medium.toml"))
+    # the text is for people (units, meaning, 6 digits); --json carries the full precision (issue 17)
+    res = _cli("info", "--json", str(ROOT / "assets/scenarios/braking_cavity_medium.toml"))
     assert res.returncode == 0, res.stderr
-    values = dict(line.split(" = ", 1) for line in res.stdout.splitlines())
+    values = {k: v["value"] for k, v in json.loads(res.stdout).items()}
     assert all(name in values for name in INFO_NAMES)
     sc = physics.Scenario.load(ROOT / "assets/scenarios/braking_cavity_medium.toml")
     assert float(values["T"]) == physics.derived(sc)["T"]  # round-trips through 17 digits
+
+
+def test_info_text_gives_units_meanings_and_readable_digits():
+    res = _cli("info", str(ROOT / "assets/scenarios/braking_cavity_medium.toml"))
+    assert res.returncode == 0, res.stderr
+    lines = {line.split(" = ", 1)[0].strip(): line.split(" = ", 1)[1] for line in res.stdout.splitlines()}
+    assert all(name in lines for name in INFO_NAMES)
+    T = physics.derived(physics.Scenario.load(ROOT / "assets/scenarios/braking_cavity_medium.toml"))["T"]
+    value, unit, *meaning = lines["T"].split()
+    assert value == f"{T:.6g}" and unit == "s" and "braking time" in " ".join(meaning)
+    assert lines["F"].split()[1] == "s^2/(kg" and "D < 0" in lines["D"]
+    assert max(len(v.split()[0]) for k, v in lines.items() if not k.startswith("auto")) <= 12  # no 17-digit floats
 
 
 @pytest.mark.parametrize("args,needle", [

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import physics
-from physics import IntegrationFault, LiveRun, Scenario
+from physics import IntegrationFault, LiveRun, Scenario, ScenarioError
 from physics.closed import braking_time
 from physics.live import BRAKED, FAULT, RUNNING
 
@@ -74,10 +74,12 @@ def test_blow_up_through_simulate():
     assert info.value.t == 0.0
 
 
-def test_blow_up_through_live_run():
-    run, _ = _live_until_stopped(Scenario.from_dict(BLOW_UP))
-    assert run.status == FAULT and "non-finite" in run.message and _at(run.message) == 0.0
-    _assert_stopped_cleanly(run)
+def test_blow_up_through_live_run_is_refused_up_front():
+    """A live run never starts from a state whose readouts are not finite (issue 17: such a scenario is
+    refused up front, naming the value; a viewer showed NaN readouts with the run "running" before)."""
+    with pytest.raises(ScenarioError, match=r"^initial\.omega = .*non-finite") as info:
+        LiveRun(Scenario.from_dict(BLOW_UP))
+    assert info.value.key == "initial.omega"
 
 
 # ---- step-size underflow -----------------------------------------------------------------------------
@@ -175,7 +177,18 @@ def test_gimbal_singularity_through_live_run():
 
 
 # ---- the app: the tab pauses on a fault, keeps the last good state and says why --------------------------
-@pytest.mark.parametrize("data, needle", [(GIMBAL, "gimbal singularity"), (BLOW_UP, "non-finite"),
+def test_the_app_engine_refuses_a_scene_that_starts_non_finite_and_keeps_the_last_good():
+    from app.state import Engine
+
+    eng = Engine()
+    before = eng.scenario
+    eng.request("scenario", (Scenario.from_dict(BLOW_UP), "blow-up"))
+    fr = eng.tick(0.1)
+    assert "initial.omega" in eng.error and "non-finite" in eng.error
+    assert eng.scenario == before and fr.status == RUNNING and math.isfinite(fr.E)
+
+
+@pytest.mark.parametrize("data, needle", [(GIMBAL, "gimbal singularity"),
                                           (STIFF_LIVE, "too stiff"), (BRAKING, "braking brought")])
 def test_the_app_engine_stops_and_shows_why(data, needle):
     from app.state import Engine

@@ -64,13 +64,23 @@ def test_retune_keeps_state_and_changes_the_motion():
     assert abs(a - b) > 1e-6  # the new damping acts at once
 
 
-def test_retune_restarts_when_asked_or_when_the_model_changes():
+def test_retune_restarts_when_asked_or_for_a_closed_form_and_carries_a_fidelity_change():
     sc = _default()
     run = LiveRun(sc)
     run.advance(1.0)
-    assert not run.retune(sc, keep_state=False) and run.t == 0.0
+    assert not run.retune(sc, keep_state=False) and run.t == 0.0 and run.energy_change is None
     run.advance(1.0)
-    assert not run.retune(sc, fidelity="averaged") and run.t == 0.0 and run.fidelity == "averaged"
+    t = run.t
+    assert run.retune(sc, fidelity="averaged") and run.t == t and run.fidelity == "averaged"  # tests/test_carry.py
+    assert run.retune(sc, fidelity="closed") and run.t == t and run.fidelity == "closed"  # restarted at t
+    pendulum = physics.Scenario.from_dict({"body": {"A": 1.0, "C": 1.4, "M": 1.0},
+                                           "initial": {"G0": 2.0, "theta0": 0.3},
+                                           "pendulum": {"m": 0.05, "l": 0.3, "h": 0.5, "k": 0.5, "c_d": 0.01},
+                                           "run": {"fidelity": "full", "t_end": 10.0}})
+    run = LiveRun(pendulum)
+    run.advance(0.5)
+    assert not run.retune(pendulum, fidelity="averaged") and run.t == 0.0 and run.fidelity == "averaged"
+    assert "closed form" in run.edit_note and "restarted from t = 0" in run.edit_note
 
 
 def test_retune_rejects_a_bad_scenario_without_changing_anything():

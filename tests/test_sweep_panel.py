@@ -131,6 +131,7 @@ def test_clicking_a_cell_of_the_scene_board_loads_its_point():
     loaded = []
     scene = FakeScene()
     panel = SweepPanel(FakeGui(), lambda: sc, loaded.append, executor="serial", scene=scene)
+    panel.board_box.value = True  # the board is opt-in: the result's own window holds the heat map
     panel.key1.value = "pendulum.c_d"
     panel.key1.fire()
     panel.n1.value = 3

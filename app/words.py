@@ -1,0 +1,111 @@
+"""The panel's words: what the explorer says to a class, in the physics' terms rather than the papers'
+numbering. The papers' symbols stay where they help (m, rho, Omega, chi, lambda, b, K, theta); formulas,
+model names and the attitude quaternion go to the "Details" folder, one click away.
+
+Plain Python (no viser): the readouts, the auto badge's two halves and the status line's wording.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+# physics.validity_conditions names (physics/validity.py, physics/pendulum_averaged.py) -> what each
+# condition means for the motion; a name missing here is shown as physics gives it
+CONDITION_WORDS = {
+    "eps = |w0|/Omega": "the spring is fast next to the spin",
+    "chi |w0| / Omega^2": "the damping of the mass is light",
+    "|w0|/chi (free oscillation decay)": "the mass's start-up wobble dies out quickly",
+    "Re = a0^2 |w0| / nu": "the fluid in the cavity flows slowly (viscous)",
+    "lambda / |w0|": "the medium slows the spin only a little per turn",
+    "b / (G0 |w0|)": "the brake slows the spin only a little per turn",
+    "|A - B| / A": "the body is nearly symmetric (A close to B)",
+    "mu D^2 / A": "the pendulum is light next to the body",
+    "g / |Omega|": "the pendulum couples weakly to the nutation",
+    "ct / lambda_1": "the pendulum's damper is light",
+    "|lambda_1 - Omega| / |Omega|": "the pendulum is close to resonance",
+    "theta0^2 |Omega| / g": "the nutation is small",
+}
+
+FIDELITY_WORDS = {
+    "full": "every moving part integrated",
+    "averaged": "the quasi-rigid (averaged) model",
+    "closed": "a closed-form solution",
+}
+
+
+# a paper's equation number in physics' sentences, "(seed 000 (2.11))": the Details folder keeps it
+PAPER_REF = re.compile(r"\s*\(seed \d+[^()]*(\([^()]*\))?[^()]*\)")
+
+
+def condition_words(name: str) -> str:
+    return CONDITION_WORDS.get(name, name)
+
+
+def reason_words(reason: str, conds: list) -> str:
+    """Auto's reason (physics' sentence, which quotes the conditions' formulas) in words; once the badge
+    has listed the conditions, only what the sentence adds to them ("closed form exists")."""
+    if conds and reason.startswith("averaged conditions fail"):
+        return ""
+    if conds and reason.startswith("averaged conditions hold"):
+        reason = reason.rpartition("; ")[2] if "; " in reason else ""
+    for c in conds:
+        reason = reason.replace(str(c), condition_words(c.name))
+    return PAPER_REF.sub("", reason)
+
+
+def badge_parts(d: dict, conds: list) -> tuple[str, str]:
+    """Auto's badge from ``physics.derived`` (``d``) and ``physics.validity_conditions`` (``conds``):
+    (what the panel shows, in words; the formulas with their values, for the Details folder)."""
+    head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
+    lines = []
+    if conds:
+        head += f"  \nthe averaged model {'applies' if all(c.holds for c in conds) else 'does not apply'}:"
+        lines = [f"{'✓ holds' if c.holds else '✗ fails'}: {condition_words(c.name)}" for c in conds]
+    bound = d.get("auto_error_bound")
+    shown_bound = isinstance(bound, float) and bound > 0
+    lines.append(f"requested accuracy: {d.get('auto_accuracy', 'not set')}"
+                 + (f"; error bound of the choice {bound:.2g} rad" if shown_bound else ""))
+    why = reason_words(d["auto_reason"], conds)
+    shown = head + "  \n" + "  \n".join(lines) + (f"  \n_{why}_" if why else "")
+    details = [f"auto's reason: {d['auto_reason']}"]
+    if conds:
+        details += ["averaged model's conditions:"] + [f"{condition_words(c.name)}: {c}" for c in conds]
+    return shown, "  \n".join(details)
+
+
+def fidelity_words(fidelity: str, by_auto: bool) -> str:
+    """``full (every moving part integrated, chosen by auto)``: the readout starts with the fidelity's name."""
+    words = FIDELITY_WORDS.get(fidelity, fidelity)
+    return f"{fidelity} ({words}{', chosen by auto' if by_auto else ''})"
+
+
+def braking_words(t: float, remaining: float) -> dict[str, str]:
+    """The braking readouts on one clock: ``T`` is the time the spin stops, counted like ``t`` from the start
+    of the run, and ``remaining`` = T - t; both from the present |K|, so an edit moves both together."""
+    if math.isinf(remaining):
+        return {"T": "no braking", "remaining": "n/a"}
+    return {"T": f"{t + remaining:.6g} s" + (" (stopped)" if remaining <= 0 else ""),
+            "remaining": f"{remaining:.6g} s"}
+
+
+def status_words(message: str) -> str:
+    """The run's status message in the panel's words: physics says the braking brought |G| (J* w) to zero,
+    a name the panel has nowhere else; to a class, the spin stopped."""
+    return message.replace("braking brought |G| to zero", "braking stopped the spin")
+
+
+def euler_angles(wxyz) -> tuple[float, float, float]:
+    """(precession psi, nutation theta, spin phi), rad, z-x-z Euler angles of the body's attitude ``wxyz``
+    (body to the view's frame, K up at the start): psi turns about the vertical, theta tilts e3 from it,
+    phi turns the body about e3. psi and phi in (-pi, pi]; at theta = 0 psi + phi is what is defined
+    (phi is then 0)."""
+    w, x, y, z = (float(v) for v in wxyz)
+    # the third column (e3 in the view) and third row (the vertical in the body) of the rotation matrix
+    r13, r23, r33 = 2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)
+    r31, r32 = 2 * (x * z - w * y), 2 * (y * z + w * x)
+    theta = math.acos(min(1.0, max(-1.0, r33)))
+    if math.hypot(r13, r23) < 1e-12:  # e3 vertical: only psi + phi is defined
+        r11, r21 = 1 - 2 * (y * y + z * z), 2 * (x * y + w * z)
+        return math.atan2(r21, r11), theta, 0.0
+    return math.atan2(r13, -r23), theta, math.atan2(r31, r32)

@@ -1,0 +1,106 @@
+"""The moving mass's closed form, restarted from a running state with its K and attitude kept.
+
+The closed form (physics/closed_state.py) has no state: it starts at t = 0 from G0 and theta0 with the
+attitude the identity, omega(0) = (G0 sin theta0/A, 0, G0 cos theta0/C) and K inertially along
+G0 (sin theta0, 0, cos theta0). To go on from a state at t0 whose body-frame momentum is K_b and whose
+attitude is q, we evaluate it from G0 = |K_b|, theta0 = the angle of K_b to e3 at s = t - t0, and map
+its solution by two constant rotations: P = Rz(psi) about the symmetry axis (psi the azimuth of K_b in
+the body), which turns its omega and its initial K direction onto the present ones, and q (x) p on the
+left, which puts the body where it is:
+
+    omega(t) = P omega_cl(s),    quat(t) = q (x) p (x) quat_cl(s) (x) p^-1.
+
+At s = 0 the attitude is q exactly and K is R(q) K_b exactly; for a symmetric body (A = B, which the
+averaged theory assumes) P maps the closed-form motion onto a motion of the same body, so the rest is
+the closed form's own. The state's K_b is the averaged model's J* omega (``physics.carry``'s proxy for
+the closed form), so a full model's state is first carried to the averaged one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .carry import CannotCarry, Carried, carry_state
+from .models.base import Model, get_model
+from .rotation import normalize, rotate
+from .scenario import Scenario
+from .trajectory import Trajectory
+
+RESTARTABLE = ("moving_mass/closed",)  # the spherical pendulum's averaged solution starts its bob at rest
+
+
+def qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Quaternion product a (x) b, scalar first, broadcasting over leading axes."""
+    a0, a1, a2, a3 = np.moveaxis(np.asarray(a, dtype=float), -1, 0)
+    b0, b1, b2, b3 = np.moveaxis(np.asarray(b, dtype=float), -1, 0)
+    return np.stack([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3, a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+                     a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1, a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
+
+
+@dataclass(frozen=True)
+class ClosedOrigin:
+    """Where a restarted closed form starts: time ``t0`` (s), the ``scenario`` it is evaluated from
+    (G0, theta0 of the present K), the constant rotations (quaternions) on the left and right of its
+    attitude, and P (3, 3) on its omega."""
+
+    t0: float
+    scenario: Scenario
+    q_left: np.ndarray
+    q_right: np.ndarray
+    P: np.ndarray
+
+    def evaluate(self, model: Model, times: np.ndarray) -> Trajectory:
+        """The closed form at absolute times ``times`` (>= t0, increasing)."""
+        s = np.maximum(np.asarray(times, dtype=float) - self.t0, 0.0)
+        first = s[0] > 0
+        tr = model.solve(self.scenario, np.concatenate([[0.0], s]) if first else s)
+        if first:
+            tr = tr.slice(1)
+        info = dict(tr.info)
+        if info.get("t_stop") is not None:
+            info["t_stop"] = float(info["t_stop"]) + self.t0
+        quat = normalize(qmul(qmul(self.q_left, tr.quat), self.q_right))
+        return Trajectory(t=tr.t + self.t0, theta=tr.theta, K=tr.K, E=tr.E, omega=tr.omega @ self.P.T, quat=quat,
+                          internal=dict(tr.internal), info=info)
+
+    def momentum(self, G: float) -> np.ndarray:
+        """Inertial K (3,) when the closed form's |G| is ``G``: fixed in direction, as the closed form has it."""
+        th0 = self.scenario.initial.theta0
+        return G * rotate(self.q_left, np.array([math.sin(th0), 0.0, math.cos(th0)]))
+
+
+def origin_at(scenario: Scenario, K: np.ndarray, q: np.ndarray, t0: float) -> ClosedOrigin:
+    """The closed form of ``scenario`` restarted at ``t0`` with inertial momentum ``K`` and attitude ``q``."""
+    q = normalize(np.asarray(q, dtype=float))
+    q_inv = q * np.array([1.0, -1.0, -1.0, -1.0])
+    Kb = rotate(q_inv, np.asarray(K, dtype=float))
+    G0 = float(np.linalg.norm(Kb))
+    if not G0 > 0:
+        raise CannotCarry("the closed form needs a nonzero angular momentum to start from")
+    theta0 = math.atan2(math.hypot(Kb[0], Kb[1]), Kb[2])
+    psi = math.atan2(Kb[1], Kb[0])
+    p = np.array([math.cos(psi / 2), 0.0, 0.0, math.sin(psi / 2)])
+    c, s = math.cos(psi), math.sin(psi)
+    P = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    initial = replace(scenario.initial, omega=None, G0=G0, theta0=theta0)
+    return ClosedOrigin(t0=float(t0), scenario=scenario.replace(initial=initial), q_left=qmul(q, p),
+                        q_right=p * np.array([1.0, -1.0, -1.0, -1.0]), P=P)
+
+
+def carry_to_closed(old_model: Model, old_p: np.ndarray, old_sc: Scenario, y_old: np.ndarray | None,
+                    new_model: Model, new_sc: Scenario, t0: float,
+                    last: Trajectory | None = None) -> tuple[ClosedOrigin, Carried]:
+    """The closed form ``new_model`` restarted at ``t0`` from the old state's K and attitude, and the
+    carry to the averaged model that gives them (its ``E_before`` is the old state's energy)."""
+    if new_model.name not in RESTARTABLE:
+        raise CannotCarry(f"the {new_model.fidelity} model of the {new_model.system.replace('_', ' ')} is a "
+                          "closed form that starts with its parts at rest, with no state to carry")
+    averaged = get_model(new_sc.system, "averaged")
+    carried = carry_state(old_model, old_p, old_sc, y_old, averaged, new_sc, last=last)
+    return origin_at(new_sc, carried.K_after, carried.y[3:7], t0), carried
+
+
+__all__ = ["RESTARTABLE", "ClosedOrigin", "carry_to_closed", "origin_at", "qmul"]

@@ -1,0 +1,173 @@
+"""Controls where a lecturer reaches them (issue 13, point 7), in a real browser: Play, Pause, Step and
+Reset visible without scrolling at 1400x900 and at 1024x768 (a projector); Space, R and the right arrow
+(as in MuJoCo's viewer), listed on the page; choosing the current preset again reloads it; a preset that
+names an overlay turns it on; choosing a system keeps the body. Everything is read from the page.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from test_app_browser import (
+    CHROMIUM,
+    FLAGS,
+    UI_TIMEOUT,
+    browser,  # noqa: F401 (a fixture)
+    choose,
+    control_id,
+    read,
+    readouts,
+    set_slider,
+    sync_api,
+    url,  # noqa: F401 (a fixture)
+    wait_until,
+)
+
+pytestmark = pytest.mark.browser
+SIZES = ((1400, 900), (1024, 768))  # a desktop and a projector
+BUTTONS = ("Play", "Pause", "Step", "Reset")
+STATUS_JS = """() => {
+    for (const p of document.querySelectorAll('p'))
+        if (p.innerText.startsWith('Quasirigid explorer')) return p.innerText;
+    return '';
+}"""
+DETUNED = "Large spinning body, pendulum damper detuned (half the nutation frequency)"
+DETUNED_K = 30.94059405940594  # assets/scenarios/pendulum_detuned.toml
+FIGURE_WITH_OVERLAY = "Pendulum damper, averaged against full model at eps = 1/4 (overlay averaged; Grobov 1968)"
+
+assert CHROMIUM and FLAGS and sync_api  # imported for the fixtures above
+
+
+def status(page) -> str:
+    return page.evaluate(STATUS_JS)
+
+
+def t_of(page) -> float:
+    return float(read(page, "t").split()[0])
+
+
+def number_box(page, label: str):
+    return page.locator(f'[id="{control_id(page, label)}"]').locator("xpath=..").locator(
+        "input.mantine-NumberInput-input")
+
+
+def open_folder(page, title: str, label: str) -> None:
+    """Open a collapsed folder (its sliders are not in the page until then), unless ``label`` shows."""
+    shown = page.locator("label").filter(has_text=re.compile(rf"^{re.escape(label)}$"))
+    if not (shown.count() and shown.first.is_visible()):
+        page.get_by_text(title, exact=True).click()
+        page.wait_for_timeout(300)
+
+
+def focus_the_scene(page) -> None:
+    """Keys go to the page, not to a control: click the 3-D view, away from the panel."""
+    page.mouse.click(120, 500)
+    page.wait_for_timeout(200)
+
+
+@pytest.fixture(scope="module")
+def page(browser, url):  # noqa: F811
+    pg = browser.new_page(viewport={"width": 1400, "height": 900})
+    pg.set_default_timeout(UI_TIMEOUT)
+    pg.goto(url)
+    pg.wait_for_selector("canvas")
+    wait_until(pg, lambda: read(pg, "fidelity").startswith("full"), "the session's first readouts")
+    yield pg
+    pg.close()
+
+
+@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
+def test_the_four_buttons_and_the_keys_are_visible_without_scrolling(browser, url, size, tmp_path):  # noqa: F811
+    width, height = size
+    pg = browser.new_page(viewport={"width": width, "height": height})
+    pg.set_default_timeout(UI_TIMEOUT)
+    try:
+        pg.goto(url)
+        pg.wait_for_selector("canvas")
+        wait_until(pg, lambda: read(pg, "fidelity").startswith("full"), "the first readouts")
+        assert pg.evaluate("() => [window.scrollX, window.scrollY]") == [0, 0]
+        for name in BUTTONS:
+            box = pg.get_by_role("button", name=name, exact=True).bounding_box()
+            assert box is not None, name
+            assert 0 <= box["x"] and box["x"] + box["width"] <= width, (name, box)
+            assert 0 <= box["y"] and box["y"] + box["height"] <= height, (name, box)
+        keys = pg.get_by_text(re.compile(r"^keys: Space play/pause"))
+        assert keys.count() == 1
+        kb = keys.bounding_box()
+        assert kb["y"] + kb["height"] <= height  # the keys are listed where the buttons are
+        pg.screenshot(path=str(tmp_path / f"controls_{width}x{height}.png"))
+    finally:
+        pg.close()
+
+
+def test_space_pauses_and_plays(page):
+    focus_the_scene(page)
+    page.keyboard.press("Space")
+    wait_until(page, lambda: "paused" in status(page), "Space to pause")
+    frozen = read(page, "t")
+    page.wait_for_timeout(1000)
+    assert read(page, "t") == frozen  # t stands still on the page
+    page.keyboard.press("Space")
+    wait_until(page, lambda: "playing" in status(page), "Space to play")
+    wait_until(page, lambda: read(page, "t") != frozen, "t to move again")
+
+
+def test_r_resets_to_zero_and_the_right_arrow_steps(page):
+    focus_the_scene(page)
+    page.keyboard.press("Space")
+    wait_until(page, lambda: "paused" in status(page), "Space to pause")
+    page.keyboard.press("r")
+    wait_until(page, lambda: read(page, "t") == "0 s", "R to reset to t = 0")
+    page.keyboard.press("ArrowRight")
+    wait_until(page, lambda: t_of(page) > 0, "the right arrow to step")
+    one = t_of(page)
+    page.keyboard.press("ArrowRight")
+    wait_until(page, lambda: t_of(page) > one, "a second step")
+    assert t_of(page) == pytest.approx(2 * one, rel=1e-3)  # the same step each time: warp / 60 s
+    assert "paused" in status(page)  # stepping leaves the clock paused
+    two = read(page, "t")
+    thumb = page.locator(f'[id="{control_id(page, "chi (1/s)")}"] [role="slider"]')
+    thumb.focus()
+    page.keyboard.press("ArrowRight")  # a focused slider takes the arrow: one step of chi, no step of t
+    page.wait_for_timeout(1000)
+    assert read(page, "t") == two
+
+
+def test_choosing_the_current_preset_again_reloads_it(page):
+    choose(page, "Preset", DETUNED)
+    wait_until(page, lambda: DETUNED in readouts(page), "the detuned preset")
+    open_folder(page, "Pendulum damper", "spring k (N m/rad)")
+    k_box = number_box(page, "spring k (N m/rad)")
+    wait_until(page, lambda: float(k_box.input_value()) == pytest.approx(DETUNED_K, rel=1e-3), "the preset's k")
+    page.get_by_role("button", name="Tune to resonance", exact=True).click()
+    wait_until(page, lambda: float(k_box.input_value()) != pytest.approx(DETUNED_K, rel=1e-3), "k tuned")
+    preset_box = page.locator(f'[id="{control_id(page, "Preset")}"]')
+    wait_until(page, lambda: preset_box.input_value() == DETUNED + " (edited)", "the preset marked edited")
+    choose(page, "Preset", DETUNED)  # the same preset again
+    wait_until(page, lambda: float(k_box.input_value()) == pytest.approx(DETUNED_K, rel=1e-3), "k reloaded")
+    wait_until(page, lambda: preset_box.input_value() == DETUNED, "the plain preset name again")
+
+
+def test_a_preset_that_names_an_overlay_turns_it_on(page):
+    page.get_by_role("button", name="Play", exact=True).click()  # a paused new run has one row: no chart yet
+    choose(page, "Preset", FIGURE_WITH_OVERLAY)
+    overlay_box = page.locator(f'[id="{control_id(page, "Overlay prediction")}"]')
+    wait_until(page, lambda: overlay_box.input_value() == "averaged", "the overlay the preset names")
+    chart = page.get_by_text(re.compile(r"^theta and the averaged model's prediction"))
+    wait_until(page, lambda: chart.count() > 0 and chart.first.is_visible(), "the prediction's chart")
+
+
+def test_choosing_a_system_keeps_the_body(page):
+    choose(page, "Preset", "Explorer 1's flat spin")
+    wait_until(page, lambda: "Explorer 1's flat spin" in readouts(page), "the preset")
+    open_folder(page, "Body inertia", "A (kg m^2)")
+    set_slider(page, "A (kg m^2)", 1.2)  # a body no preset has (A <= B + C = 1.5)
+    a_box, c_box = number_box(page, "A (kg m^2)"), number_box(page, "C (kg m^2)")
+    wait_until(page, lambda: float(a_box.input_value()) == pytest.approx(1.2), "A edited")
+    c_before = float(c_box.input_value())
+    choose(page, "System", "spherical pendulum")
+    wait_until(page, lambda: "body kept" in readouts(page), "the spherical pendulum with the body kept")
+    assert float(a_box.input_value()) == pytest.approx(1.2)
+    assert float(c_box.input_value()) == pytest.approx(c_before)
+    assert read(page, "fidelity")  # the run goes on with the new system

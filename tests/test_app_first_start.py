@@ -1,0 +1,78 @@
+"""The first start on a machine (issue 13 point 9), in Debian's chromium: with the compiled kernels not yet
+built (QUASIRIGID_BUILD_GATE holds the background build back), the page shows a moving scene and says it is
+preparing the fast integrator; once the build is let through, the notice goes and the scene keeps moving."""
+
+from __future__ import annotations
+
+import os
+import queue
+import re
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+from test_app_browser import CHROMIUM, FLAGS, ROOT, START_TIMEOUT, read, sync_api
+
+pytestmark = pytest.mark.browser
+PREPARING = "preparing the fast integrator"
+STATUS_JS = """() => { for (const p of document.querySelectorAll('p'))
+    if (p.innerText.startsWith('Quasirigid explorer')) return p.innerText; return ''; }"""
+BUILD_TIMEOUT = 600.0  # s: on a machine whose numba cache is cold the released build really compiles
+
+
+def _start(env: dict) -> tuple[subprocess.Popen, str]:
+    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
+    lines: queue.Queue = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
+    deadline, log = time.monotonic() + START_TIMEOUT, []
+    while time.monotonic() < deadline and proc.poll() is None:
+        try:
+            log.append(lines.get(timeout=1.0))
+        except queue.Empty:
+            continue
+        m = re.search(r"ready in .*: (http://\S+)", log[-1])
+        if m:
+            return proc, m.group(1)
+    proc.kill()
+    pytest.fail("the explorer did not start:\n" + "".join(log))
+
+
+def _sim_time(page) -> float:
+    return float(read(page, "t").split()[0])
+
+
+def test_the_scene_runs_while_the_integrator_is_built_and_after(tmp_path):
+    gate = tmp_path / "gate"
+    proc, url = _start(dict(os.environ, QUASIRIGID_BUILD_GATE=str(gate)))
+    try:
+        with sync_api.sync_playwright() as p:
+            browser = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+            page = browser.new_page(viewport={"width": 1400, "height": 900})
+            page.set_default_timeout(60_000)
+            page.goto(url)
+            page.wait_for_function(f"() => ({STATUS_JS})().includes('{PREPARING}')", polling=100)
+            page.wait_for_function("() => document.body.innerText.includes('fidelity = ')", polling=100)
+            t0 = _sim_time(page)
+            page.wait_for_function(f"() => {{ const m = document.body.innerText.match(/^t = ([-0-9.e+]+) s/m);"
+                                   f" return m && parseFloat(m[1]) > {t0}; }}", polling=100)
+            status = page.evaluate(STATUS_JS)
+            assert PREPARING in status and "playing" in status, status
+            assert re.search(rf"{PREPARING}: \d+ s", status), status  # it counts the seconds
+            page.screenshot(path=str(tmp_path / "preparing.png"))
+
+            gate.write_text("built")  # the background build may now finish
+            page.wait_for_function(f"() => !({STATUS_JS})().includes('{PREPARING}')", polling=200,
+                                   timeout=BUILD_TIMEOUT * 1000)
+            t1 = _sim_time(page)
+            page.wait_for_function(f"() => {{ const m = document.body.innerText.match(/^t = ([-0-9.e+]+) s/m);"
+                                   f" return m && parseFloat(m[1]) > {t1}; }}", polling=100)
+            status = page.evaluate(STATUS_JS)
+            assert "playing" in status and "fault" not in status, status
+            browser.close()
+    finally:
+        os.killpg(proc.pid, 15)
+        proc.wait(timeout=10)
+    assert proc.returncode is not None
