@@ -16,6 +16,7 @@ from .presets import WARP_MAX, WARP_MIN
 FRAME_HZ = 60.0
 MAX_FRAME_DT = 0.1  # s of wall time: after a stall, do not try to catch up more than this
 TICK_BUDGET_S = 0.008  # wall seconds one frame may spend integrating
+FLOOR_BUDGET_S = 0.05  # wall seconds a frame may spend to keep the clock at real time; beyond, it slows
 PROBE = 16.0  # after a change, the first frame integrates this much less than the last estimate allows
 DEFAULT_WARP = 1.0  # the default scene is made to be watched in real time
 WARP_WINDOW_S = 1.0  # wall seconds over which the achieved warp is measured
@@ -55,8 +56,12 @@ class Clock:
     def allowance(self, dt: float, floor: float) -> float:
         """Simulated seconds a playing frame may integrate out of the ``dt`` the warp asks for: what
         TICK_BUDGET_S affords at the last measured rate (PROBE times less after a change), at least
-        ``floor`` (the frame's wall seconds: real time)."""
+        ``floor`` (the frame's wall seconds: real time), unless even real time would cost more than
+        FLOOR_BUDGET_S at that rate (200 plane pendulums: 5-13 s a frame): then the clock runs slower than
+        real time and the frames go on."""
         cap = dt if self.sim_rate is None else self.sim_rate * TICK_BUDGET_S
+        if self.sim_rate is not None:
+            floor = min(floor, self.sim_rate * FLOOR_BUDGET_S)
         out = min(dt, max(cap / PROBE if self.probe else cap, floor))
         self.probe = False
         return out

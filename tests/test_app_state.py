@@ -294,6 +294,7 @@ def test_overlays_and_badge_for_the_pendulum_systems():
     e = Engine(preset="Taylor's damper: three plane pendulums")
     e.request("overlay", "closed")
     ticks(e, 2)
+    assert e.wait_overlay()  # linear theory's analysis runs off the loop thread too
     rate = physics.derived(e.scenario)["decay_rate_linear"]
     ot, oth = e.overlay
     assert rate > 0 and oth[-1] == pytest.approx(oth[0] * math.exp(-rate * ot[-1]), rel=1e-12)

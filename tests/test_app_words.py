@@ -298,3 +298,18 @@ def test_a_keyed_step_is_dropped_when_a_focused_slider_took_the_arrow():
     eng.value_requested_at = pressed - 10 * STEP_DEFER_S  # a slider moved long before: the key steps
     bar._step_unless_slider(pressed)
     assert [a for a, _ in eng._actions] == ["step"]
+
+
+def test_real_time_is_kept_only_while_it_is_affordable():
+    """A scene too dear to integrate in real time (hundreds of plane pendulums) slows its clock rather than
+    its frames: the real-time floor holds only up to FLOOR_BUDGET_S of wall time a frame (issue 17)."""
+    from app.clock import FLOOR_BUDGET_S, TICK_BUDGET_S, Clock
+
+    c = Clock(warp=1.0)
+    c.probe = False
+    c.measured(sim_dt=0.01, spent=1.0)  # 0.01 simulated s per wall s: real time is 100x too dear
+    frame = 1.0 / 60
+    assert c.allowance(frame, floor=frame) == pytest.approx(0.01 * FLOOR_BUDGET_S)
+    c.measured(sim_dt=1.0, spent=1.0)  # affordable: real time, though it costs more than TICK_BUDGET_S
+    assert c.allowance(frame, floor=frame) == pytest.approx(frame)
+    assert 1.0 * TICK_BUDGET_S < frame < 1.0 * FLOOR_BUDGET_S

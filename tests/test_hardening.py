@@ -122,7 +122,8 @@ def test_a_nested_value_too_deep_to_repr_is_named_not_raised():
     value: dict = {}
     for _ in range(5_000):
         value = {"a": value}
-    assert _show(value) == "(a dict nested too deeply to show)"
+    shown = _show(value)  # never raises; Python 3.11 cannot repr it (RecursionError), 3.13 can (then it is cut)
+    assert shown == "(a dict nested too deeply to show)" or (shown.startswith("{'a': {'a':") and len(shown) <= 90)
 
 
 def test_a_huge_key_is_echoed_shortened():

@@ -194,9 +194,9 @@ def test_a_mesh_path_comes_only_from_the_command_line():
     server = (ROOT / "app" / "server.py").read_text()
     assert "load_mesh(" not in server
     callers = {p.relative_to(ROOT).as_posix() for p in SOURCES if "load_mesh(" in p.read_text() and p.name != "mesh.py"}
-    assert callers <= {"app/__main__.py", "app/engine.py", "bench/figures.py"}, callers
-    if "app/engine.py" in callers:  # the GUI's mesh choice: only through the assets folder's names
-        state = (ROOT / "app" / "engine.py").read_text()
+    assert callers <= {"app/__main__.py", "app/actions.py", "bench/figures.py"}, callers
+    if "app/actions.py" in callers:  # the GUI's mesh choice: only through the assets folder's names
+        state = (ROOT / "app" / "actions.py").read_text()
         assert state.count("load_mesh(") == state.count("load_mesh(path") and "path = meshes.asset_path(name)" in state
 
 
