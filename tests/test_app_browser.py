@@ -139,6 +139,21 @@ def test_page_loads_connects_and_shows_the_canvas(page):
     wait_until(page, lambda: read(page, "fidelity").startswith("full"), "the session's first readouts")
 
 
+PAPERS_NUMBERING = ("Seed", "seed 00", "lambda_1", "mu D^2", "ct /", "moving_mass/full")
+
+
+def test_the_page_speaks_of_the_physics_and_keeps_detail_one_click_away(page):
+    """Issue 13 point 8, as the page shows it: no paper numbering or internal names on the panel; the model's
+    internal name and the raw quaternion are in the collapsed Details folder, shown when it is opened."""
+    wait_until(page, lambda: read(page, "fidelity"), "the readouts")
+    text = page.evaluate("() => document.body.innerText")
+    assert not [w for w in PAPERS_NUMBERING if w in text], [w for w in PAPERS_NUMBERING if w in text]
+    assert read(page, "fidelity").startswith("full (") and "q (body to inertial" not in text
+    page.get_by_text("Details", exact=True).click()
+    wait_until(page, lambda: "moving_mass/full" in page.evaluate("() => document.body.innerText"), "the details")
+    page.get_by_text("Details", exact=True).click()  # closed again for the tests after
+
+
 def test_default_scene_moves(page):
     q1 = read(page, "spin phi"), read(page, "precession psi")
     t1 = read(page, "t")
