@@ -1,0 +1,219 @@
+"""Each measured figure quoted in README.md and docs/*.md matches the results file it comes from (issue 17,
+"Figures from commands"), and the file is named beside it.
+
+A figure is found by a pattern in the page (whitespace collapsed, so line wrapping does not matter) whose
+one group is the number as shown; its value is computed from the results file (a median, a maximum, a ratio
+of medians, a cell...). The two must agree to the rounding shown: "3.5" stands for [3.45, 3.55]. The page
+must also name the results file within ``NEAR`` characters of the figure. When a benchmark is rerun and its
+file changes, this test says which quoted figures to update.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+import statistics
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+NEAR = 1500  # characters either side of a figure in which its results file must be named
+STARTUP = "bench/results/explorer_startup.csv"
+COLD = "bench/results/explorer_startup_cold.csv"
+RATES = "bench/results/explorer_rates.csv"
+TARGETS = "bench/results/targets.csv"
+WORK = "bench/results/work_precision.csv"
+SCALING = "bench/results/sweep_scaling.csv"
+SWEEP = "img/sweep_pendulum_k_cd.csv"  # named from docs/, as the page links it
+SOAK = "bench/results/soak_60min.json"
+
+
+def rows(name: str) -> list[dict]:
+    path = ROOT / name if name.startswith("bench/") else ROOT / "docs" / name
+    with path.open(newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def col(name: str, key: str, **where) -> list[float]:
+    """The column ``key`` of the rows matching every ``column=value`` in ``where``."""
+    return [float(r[key]) for r in rows(name) if all(r[k] == v for k, v in where.items())]
+
+
+def median(name, key, **where):
+    return statistics.median(col(name, key, **where))
+
+
+def soak(key: str) -> float:
+    return json.loads((ROOT / SOAK).read_text())[key]
+
+
+def steady(key: str) -> float:
+    return next(c[key] for c in soak("clients_detail") if c["steady"])
+
+
+def cell(name: str, key: str, index: int) -> float:
+    return float(rows(name)[index][key])
+
+
+def rate(quantity: str) -> float:
+    return next(float(r["value"]) for r in rows(RATES) if r["quantity"] == quantity)
+
+
+def fastest(problem: str, methods: tuple[str, ...], max_error: float) -> float:
+    """The least wall time among ``methods``' settings on ``problem`` that reach ``max_error``."""
+    return min(float(r["wall_s"]) for r in rows(WORK)
+               if r["problem"] == problem and r["method"] in methods and float(r["error"]) <= max_error)
+
+
+COMPILED = ("DOP853 (compiled)", "RK4 (compiled)", "RK8 (compiled)")
+NUMPY = ("scipy DOP853 (numpy rhs)",)
+
+
+def scaling(workload: str, executor: str, workers: str, key: str) -> float:
+    (value,) = col(SCALING, key, workload=workload, executor=executor, workers=workers)
+    return value
+
+
+def best_decay(key: str) -> float:
+    ok = [r for r in rows(SWEEP) if r["decay_time"] and float(r["decay_time"]) > 0]
+    return float(min(ok, key=lambda r: float(r["decay_time"]))[key])
+
+
+# docs/sweeps.md's timing table: (row label as a pattern, executor, workers) -> its four wall times
+SCALING_ROWS = [
+    (r"in this process \(`executor=\"serial\"`, warm\)", "serial", "1"),
+    (r"processes, fork \(the default from a script or the CLI\)", "fork", "1"),
+    ("processes, fork", "fork", "2"),
+    (r"processes, forkserver \(the explorer's\)", "forkserver", "1"),
+    ("processes, forkserver", "forkserver", "2"),
+    (r"`--dask local` \(LocalCluster\)", "dask-local", "1"),
+    (r"`--dask local` \(LocalCluster\)", "dask-local", "2"),
+]
+
+# (page, pattern with one group: the figure as shown, results file, how to compute it from the file)
+FIGURES = [
+    # the explorer's warm start (python bench/explorer_startup.py 10 --compare-env-map; as shipped: env_map False)
+    ("README.md", r"browser \((\d+\.\d+) s median, [\d.]+ s at most, over \d+ warm launches", STARTUP,
+     lambda: median(STARTUP, "scene_drawn_s", env_map="False")),
+    ("README.md", r"s median, (\d+\.\d+) s at most, over \d+ warm launches", STARTUP,
+     lambda: max(col(STARTUP, "scene_drawn_s", env_map="False"))),
+    ("README.md", r"s at most, over (\d+) warm launches", STARTUP,
+     lambda: len(col(STARTUP, "scene_drawn_s", env_map="False"))),
+    # first starts (python bench/explorer_startup.py --cold --inline), one run
+    ("README.md", r"moving scene after (\d+\.\d+) s median cold", COLD, lambda: median(COLD, "moving_s", cache="cold")),
+    ("README.md", r"median cold against (\d+\.\d+) s warm", COLD, lambda: median(COLD, "moving_s", cache="warm")),
+    ("README.md", r"s warm, a ratio of (\d+\.\d+)", COLD,
+     lambda: median(COLD, "moving_s", cache="cold") / median(COLD, "moving_s", cache="warm")),
+    ("README.md", r"compiling in the server instead, as before, took (\d+\.\d+) s", COLD,
+     lambda: median(COLD, "moving_s", cache="cold-inline")),
+    ("README.md", r"took [\d.]+ s \((\d+\.\d+) times warm\)", COLD,
+     lambda: median(COLD, "moving_s", cache="cold-inline") / median(COLD, "moving_s", cache="warm")),
+    ("README.md", r"\((\d+) launches each, load average", COLD, lambda: len(col(COLD, "moving_s", cache="cold"))),
+    ("README.md", r"load average (\d+)-\d+ from other jobs", COLD, lambda: min(col(COLD, "load1"))),
+    ("README.md", r"load average \d+-(\d+) from other jobs", COLD, lambda: max(col(COLD, "load1"))),
+    # the explorer's rates (python bench/explorer_rates.py)
+    ("README.md", r"\((\d+\.\d+) frames published per s at 1x", RATES, lambda: rate("frames published per s at 1x")),
+    ("README.md", r"frames published per s at 1x, (\d+\.\d+) at 1000x", RATES,
+     lambda: rate("frames published per s at 1000x")),
+    ("README.md", r"at 1000x with an achieved warp of (\d+)x", RATES, lambda: rate("achieved warp at 1000x")),
+    ("README.md", r"reaches a published frame in (\d+\.\d+) ms median", RATES,
+     lambda: rate("slider change -> first frame, median ms")),
+    ("README.md", r"ms median, (\d+\.\d+) ms at most: `bench/results/explorer_rates", RATES,
+     lambda: rate("slider change -> first frame, max ms")),
+    # work-precision headline ratios (python -m bench work-precision), one run
+    ("README.md", r"\| (\d+)x \(the numpy run is timed", TARGETS, lambda: cell(TARGETS, "ratio", 0)),
+    ("README.md", r"MuJoCo RK4 / the same \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 1)),
+    ("README.md", r"each timed once \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 2)),
+    ("README.md", r"with its attitude \(7 states\), same run \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 3)),
+    ("README.md", r"the 7-state one below, (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 3)),
+    ("README.md", r"full model / closed form, same run \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 4)),
+    ("README.md", r"fastest of three timings each\) \| (\d+\.\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 5)),
+    ("README.md", r"timed on (\d+\.\d+) % of the horizon", TARGETS,
+     lambda: 100 * float(re.search(r"from ([\d.]+) of T", rows(TARGETS)[0]["peer"]).group(1))),
+    # P4 in the same run (bench/results/work_precision.csv): fastest settings reaching theta error 1e-9
+    ("README.md", r"right-hand side takes (\d+)x the time", WORK,
+     lambda: fastest("P4", NUMPY, 1e-9) / fastest("P4", COMPILED, 1e-9)),
+    ("README.md", r"compiled DOP853 \((\d+\.\d+) s at rtol 1e-8 against", WORK, lambda: fastest("P4", NUMPY, 1e-9)),
+    ("README.md", r"s at rtol 1e-8 against (\d+\.\d+) s at rtol 1e-7", WORK, lambda: fastest("P4", COMPILED, 1e-9)),
+    # sweeps (python -m bench sweep --scaling; the picture's sweep)
+    *[("docs/sweeps.md", rf"\| {label} \| {workers} \| {before}(\d+\.?\d*) s \|", SCALING,
+       (lambda w=workload, e=executor, n=workers, k=key: scaling(w, e, n, k)))
+      for label, executor, workers in SCALING_ROWS
+      for before, workload, key in (("", "light", "wall1_s"), (r"[\d.]+ s \| ", "light", "wall2_s"),
+                                    (r"[\d.]+ s \| [\d.]+ s \| ", "heavy", "wall1_s"),
+                                    (r"[\d.]+ s \| [\d.]+ s \| [\d.]+ s \| ", "heavy", "wall2_s"))],
+    ("docs/sweeps.md", r"the heavy sweep on fork took (\d+\.\d+) s against", SCALING,
+     lambda: scaling("heavy", "fork", "2", "wall2_s")),
+    ("docs/sweeps.md", r"the heavy sweep on fork took [\d.]+ s against (\d+\.\d+) s", SCALING,
+     lambda: scaling("heavy", "fork", "1", "wall2_s")),
+    ("docs/sweeps.md", r"the heavy sweep on fork took [\d.]+ s against [\d.]+ s \((\d+\.\d+)x\) in this run", SCALING,
+     lambda: scaling("heavy", "fork", "1", "wall2_s") / scaling("heavy", "fork", "2", "wall2_s")),
+    # the hour's soak (python -m bench soak --minutes 60)
+    ("docs/reliability.md", r"RSS went from (\d+\.\d+) MB after the 2-minute warm-up", SOAK,
+     lambda: soak("rss_mb_after_warmup")),
+    ("docs/reliability.md", r"warm-up to (\d+\.\d+) MB at the end", SOAK, lambda: soak("rss_mb_end")),
+    ("docs/reliability.md", r"at the end, \*\*\+(\d+\.\d+) %\*\*", SOAK, lambda: 100 * soak("rss_growth")),
+    ("docs/reliability.md", r"with a maximum of (\d+\.\d+) MB. The load", SOAK, lambda: soak("rss_mb_max")),
+    ("docs/reliability.md", r"The load average had a median of (\d+\.\d+)", SOAK,
+     lambda: soak("load_average_1min_median")),
+    ("docs/reliability.md", r"(\d+) preset loads, about", SOAK, lambda: soak("churned_presets")),
+    ("docs/reliability.md", r"reconnections and ([\d,]+) frames published", SOAK, lambda: soak("server_frames")),
+    ("docs/reliability.md", r"The steady client's median was (\d+) updates/s", SOAK,
+     lambda: steady("median_updates_per_s")),
+    ("docs/reliability.md", r"it had 30 or more in (\d+\.\d+) % of its seconds", SOAK,
+     lambda: 100 * steady("seconds_at_target")),
+    ("docs/reliability.md", r"Its worst second was (\d+), so", SOAK, lambda: steady("min_updates_per_s")),
+    ("docs/sweeps.md", r"The fastest decay, (\d+\.\d+) s, is", SWEEP, lambda: best_decay("decay_time")),
+    ("docs/sweeps.md", r"is at k = (\d+) N m/rad", SWEEP, lambda: best_decay("pendulum.k")),
+    ("docs/sweeps.md", r"at a finite damping, c_d = (\d+\.\d+) N m s/rad", SWEEP, lambda: best_decay("pendulum.c_d")),
+]
+
+
+def page(name: str) -> str:
+    return re.sub(r"\s+", " ", (ROOT / name).read_text())
+
+
+def shown_tolerance(shown: str) -> float:
+    """Half a unit of the last digit shown: "3.5" covers 3.45..3.55, "441" covers 440.5..441.5."""
+    decimals = len(shown.split(".")[1]) if "." in shown else 0
+    return 0.5 * 10.0 ** -decimals * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("doc, pattern, source, compute", FIGURES,
+                         ids=[f"{d}:{p[:40]}" for d, p, _s, _c in FIGURES])
+def test_quoted_figure_matches_its_results_file(doc, pattern, source, compute):
+    text = page(doc)
+    found = list(re.finditer(pattern, text))
+    assert len(found) == 1, f"{doc}: expected the figure /{pattern}/ once, found it {len(found)} times"
+    m = found[0]
+    shown, value = m.group(1).replace(",", ""), compute()
+    assert abs(float(shown) - value) <= shown_tolerance(shown), (
+        f"{doc} quotes {shown} in '{m.group(0)}', but {source} gives {value:.6g}: update the page")
+    around = text[max(0, m.start() - NEAR):m.end() + NEAR]
+    assert source in around, f"{doc}: '{m.group(0)}' does not name its results file {source} nearby"
+
+
+def test_shown_tolerance_is_half_the_last_digit():
+    # the rule above, checked on the figure issue 17 found wrong: 3.6 does not stand for 3.51, 3.5 does
+    assert abs(3.6 - 3.51) > shown_tolerance("3.6")
+    assert abs(3.5 - 3.51) <= shown_tolerance("3.5")
+    assert shown_tolerance("80023") == pytest.approx(0.5)
+
+
+def test_explorer_rates_has_its_meta_and_chart_and_no_stray_copy():
+    meta = json.loads((ROOT / "bench/results/explorer_rates.meta.json").read_text())
+    assert meta["command"].startswith("python bench/explorer_rates.py")
+    assert "machine" in meta  # null only for the run made before the script recorded it
+    assert (ROOT / "docs/img/explorer_rates.png").stat().st_size > 0
+    assert not (ROOT / "bench/explorer_rates.csv").exists(), "the results belong in bench/results/"
+
+
+def test_explorer_rates_chart_draws_from_a_csv(tmp_path):
+    pytest.importorskip("matplotlib")
+    rates = pytest.importorskip("bench.explorer_rates")
+    out = tmp_path / "rates.csv"
+    out.write_text("quantity,value\nframes published per s at 1x,59.6\n\"publish ms, median\",0.89\n")
+    rates.chart(out, tmp_path / "rates.png")
+    assert (tmp_path / "rates.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
