@@ -13,7 +13,8 @@ left, which puts the body where it is:
 At s = 0 the attitude is q exactly and K is R(q) K_b exactly; for a symmetric body (A = B, which the
 averaged theory assumes) P maps the closed-form motion onto a motion of the same body, so the rest is
 the closed form's own. The state's K_b is the averaged model's J* omega (``physics.carry``'s proxy for
-the closed form), so a full model's state is first carried to the averaged one.
+the closed form), so a full model's state is first carried to the averaged one. The spherical pendulum's
+averaged solution is restarted the same way, with its bob at rest (physics/pendulum_restart.py).
 """
 
 from __future__ import annotations
@@ -29,7 +30,9 @@ from .rotation import normalize, rotate
 from .scenario import Scenario
 from .trajectory import Trajectory
 
-RESTARTABLE = ("moving_mass/closed",)  # the spherical pendulum's averaged solution starts its bob at rest
+# closed forms restarted from a running state; the spherical pendulum's averaged solution restarts with its bob
+# at rest (physics/pendulum_restart.py)
+RESTARTABLE = ("moving_mass/closed", "spherical_pendulum/averaged")
 
 
 def qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -44,13 +47,17 @@ def qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 class ClosedOrigin:
     """Where a restarted closed form starts: time ``t0`` (s), the ``scenario`` it is evaluated from
     (G0, theta0 of the present K), the constant rotations (quaternions) on the left and right of its
-    attitude, and P (3, 3) on its omega."""
+    attitude, and P (3, 3) on its omega. ``K_dir``: K's fixed inertial direction when the solution's is not
+    G0's (sin theta0, 0, cos theta0) turned by q_left; ``offsets``: (column, value) added to internal columns,
+    counters such as the dissipated work that went on before the restart."""
 
     t0: float
     scenario: Scenario
     q_left: np.ndarray
     q_right: np.ndarray
     P: np.ndarray
+    K_dir: np.ndarray | None = None
+    offsets: tuple[tuple[str, float], ...] = ()
 
     def evaluate(self, model: Model, times: np.ndarray) -> Trajectory:
         """The closed form at absolute times ``times`` (>= t0, increasing)."""
@@ -63,11 +70,16 @@ class ClosedOrigin:
         if info.get("t_stop") is not None:
             info["t_stop"] = float(info["t_stop"]) + self.t0
         quat = normalize(qmul(qmul(self.q_left, tr.quat), self.q_right))
+        internal = dict(tr.internal)
+        for name, value in self.offsets:
+            internal[name] = internal[name] + value
         return Trajectory(t=tr.t + self.t0, theta=tr.theta, K=tr.K, E=tr.E, omega=tr.omega @ self.P.T, quat=quat,
-                          internal=dict(tr.internal), info=info)
+                          internal=internal, info=info)
 
     def momentum(self, G: float) -> np.ndarray:
         """Inertial K (3,) when the closed form's |G| is ``G``: fixed in direction, as the closed form has it."""
+        if self.K_dir is not None:
+            return G * self.K_dir
         th0 = self.scenario.initial.theta0
         return G * rotate(self.q_left, np.array([math.sin(th0), 0.0, math.cos(th0)]))
 
@@ -92,14 +104,20 @@ def origin_at(scenario: Scenario, K: np.ndarray, q: np.ndarray, t0: float) -> Cl
 
 def carry_to_closed(old_model: Model, old_p: np.ndarray, old_sc: Scenario, y_old: np.ndarray | None,
                     new_model: Model, new_sc: Scenario, t0: float,
-                    last: Trajectory | None = None) -> tuple[ClosedOrigin, Carried]:
+                    last: Trajectory | None = None, K_keep: np.ndarray | None = None) -> tuple[ClosedOrigin, Carried]:
     """The closed form ``new_model`` restarted at ``t0`` from the old state's K and attitude, and the
-    carry to the averaged model that gives them (its ``E_before`` is the old state's energy)."""
+    carry to the averaged model that gives them (its ``E_before`` is the old state's energy). ``K_keep``:
+    the K an old closed form shows (``carry_state``)."""
     if new_model.name not in RESTARTABLE:
         raise CannotCarry(f"the {new_model.fidelity} model of the {new_model.system.replace('_', ' ')} is a "
                           "closed form that starts with its parts at rest, with no state to carry")
+    if new_model.name == "spherical_pendulum/averaged":
+        from .pendulum_restart import carry_to_pendulum_averaged  # it builds on this module's ClosedOrigin
+
+        return carry_to_pendulum_averaged(old_model, old_p, old_sc, y_old, new_model, new_sc, t0, last=last,
+                                          K_keep=K_keep)
     averaged = get_model(new_sc.system, "averaged")
-    carried = carry_state(old_model, old_p, old_sc, y_old, averaged, new_sc, last=last)
+    carried = carry_state(old_model, old_p, old_sc, y_old, averaged, new_sc, last=last, K_keep=K_keep)
     return origin_at(new_sc, carried.K_after, carried.y[3:7], t0), carried
 
 

@@ -168,9 +168,9 @@ class LiveRun:
         With ``keep_state`` the state is carried (``physics.carry``): the attitude, the internal coordinates
         that still exist and the inertial angular momentum K are kept, omega is solved for, t goes on, and
         ``energy_change`` is what the edit did to E (J). The moving mass's closed form has no state: it is
-        restarted at t from the present K and attitude (``physics.closed_restart``). The spherical pendulum's
-        averaged solution starts its bob at rest, so a change to it restarts from t = 0, and ``edit_note``
-        says so. ``energy_change`` is None after a restart."""
+        restarted at t from the present K and attitude (``physics.closed_restart``); so is the spherical
+        pendulum's averaged solution, with its bob put at rest (``physics.pendulum_restart``). When the state
+        cannot be kept the run restarts from t = 0 and ``edit_note`` says why; ``energy_change`` is then None."""
         res = resolve(scenario, fidelity)
         if scenario.run.method in FIXED_STEP_METHODS and res.model.solve is None:
             check_fixed_method(res.model, scenario, scenario.run.method,
@@ -179,12 +179,14 @@ class LiveRun:
         carried, origin, note = None, None, ""
         if keep_state and self.status != FAULT:
             y_old = self.y if self.model.solve is None else None
+            K_shown = None if self.model.solve is None else self.momentum()  # a closed form's K, not its row's
             try:
                 if res.model.solve is None:
-                    carried = carry_state(self.model, self.p, self.scenario, y_old, res.model, scenario, last=self.last)
+                    carried = carry_state(self.model, self.p, self.scenario, y_old, res.model, scenario, last=self.last,
+                                          K_keep=K_shown)
                 else:
                     origin, carried = carry_to_closed(self.model, self.p, self.scenario, y_old, res.model, scenario,
-                                                      self.t, last=self.last)
+                                                      self.t, last=self.last, K_keep=K_shown)
             except CannotCarry as exc:
                 note = f"state not kept: {exc}; restarted from t = 0"
         if carried is None:
@@ -247,7 +249,11 @@ class LiveRun:
             return self.origin.momentum(G)
         from .coefficients import initial_G
 
-        _, _, th0 = initial_G(self.scenario)
+        w0, _, th0 = initial_G(self.scenario)
+        if self.model.name == "spherical_pendulum/averaged":  # K starts as J w0 in the body, inertial at t = 0
+            body = self.scenario.body
+            Jw = np.array([body.A, body.B, body.C]) * w0
+            return G * Jw / np.linalg.norm(Jw)
         return G * np.array([math.sin(th0), 0.0, math.cos(th0)])
 
     # ---- stepping -----------------------------------------------------------------------
