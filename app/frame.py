@@ -86,7 +86,8 @@ class FrameMixin:
         if sc.pendulum is not None:
             a = last.internal.get("alpha", [0.0])[0]
             b = last.internal.get("beta", [0.0])[0]
-            fr.bobs = [spherical_bob(sc.pendulum.h, sc.pendulum.l, a, b)]
+            chart = last.internal.get("chart", [0.0])[0]  # the angles' chart (near the gimbal pole: 1)
+            fr.bobs = [spherical_bob(sc.pendulum.h, sc.pendulum.l, a, b, chart)]
         for i, pp in enumerate(sc.plane_pendulums):
             a = last.internal.get(f"a{i + 1}", [0.0])[0]
             fr.bobs.append(plane_bob(*pp.geometry(), pp.l, a))

@@ -156,9 +156,12 @@ def mass_points(rho: float, u: np.ndarray, exaggeration: float) -> tuple[np.ndar
     return rest, rest + exaggeration * np.asarray(u, dtype=float)
 
 
-def spherical_bob(h: float, l: float, alpha: float, beta: float) -> tuple[np.ndarray, np.ndarray]:
-    """(pivot h e3, bob pivot + l e) with e = R_x(alpha) R_y(beta) e3 (physics/compiled/pendulum.py)."""
-    e = np.array([math.sin(beta), -math.sin(alpha) * math.cos(beta), math.cos(alpha) * math.cos(beta)])
+def spherical_bob(h: float, l: float, alpha: float, beta: float,
+                  chart: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(pivot h e3, bob pivot + l e) with e = R_x(alpha) R_y(beta) e3 in chart 0, e = R_y(alpha) R_x(beta) e3 in
+    chart 1 (the angles the run uses near chart 0's pole, physics/compiled/pendulum.py)."""
+    sa, ca, sb, cb = math.sin(alpha), math.cos(alpha), math.sin(beta), math.cos(beta)
+    e = np.array([sb, -sa * cb, ca * cb]) if chart < 0.5 else np.array([sa * cb, -sb, ca * cb])
     pivot = h * E3
     return pivot, pivot + l * e
 

@@ -43,7 +43,8 @@ def moving_mass_rhs(p: np.ndarray):
 
 def spherical_pendulum_rhs(p: np.ndarray):
     """f(t, y) of the full spherical-pendulum damper (MODELS.md B.2, one bob, Cardan angles) for solve_ivp;
-    p and the state (w, alpha, beta, alpha', beta', q, W_diss) as physics/compiled/pendulum.py.
+    p and the state (w, alpha, beta, alpha', beta', q, W_diss, chart) as physics/compiled/pendulum.py, in
+    chart 0 (the Cardan angles; the kernel's chart 1 near their pole is not written out here).
 
     Written as a user would: the mass matrix and the right side of the Lagrange equations assembled
     with numpy from P = [e_j x r | dr/dq], solved with np.linalg.solve.
@@ -77,6 +78,6 @@ def spherical_pendulum_rhs(p: np.ndarray):
         X = np.linalg.solve(Mm, rhs)
         qw, qv = q[0], q[1:]
         qdot = np.concatenate([[-0.5 * qv @ w], 0.5 * (qw * w + cross(qv, w))])
-        return np.concatenate([X[0:3], qd, X[3:5], qdot, [c * (qd @ qd)]])
+        return np.concatenate([X[0:3], qd, X[3:5], qdot, [c * (qd @ qd), 0.0]])  # the chart stays
 
     return f

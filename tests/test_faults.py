@@ -39,7 +39,9 @@ STIFF_LIVE = _mass(mass__Omega=1e7, mass__chi=1e7)  # stable steps of 3e-7 s aga
 GIMBAL = {"body": {"A": 1.0, "C": 1.4, "M": 1.0},  # a bob above its pivot with no spring: it falls over
           "pendulum": {"m": 0.05, "l": 0.3, "h": 0.2, "k": 0.0, "c_d": 0.001},
           "initial": {"G0": 2.0, "theta0": 0.1}, "run": {"fidelity": "full", "t_end": 30.0, "samples": 31}}
+GIMBAL_SPRING = {**GIMBAL, "pendulum": {**GIMBAL["pendulum"], "k": 1e-4}}  # a spring on the Cardan angles
 BRAKING = _mass(control__b=0.3)  # T = G0 / b = 10 s (no medium)
+INVARIANT_TOL = 1e-9  # relative drift of the inertial K and of E + W (tests/test_pendulum_full.py's)
 
 
 def _at(message: str) -> float:
@@ -158,22 +160,148 @@ def test_end_of_braking_through_live_run():
 
 
 # ---- the gimbal singularity ------------------------------------------------------------------------------
-def test_gimbal_singularity_through_simulate():
-    with pytest.raises(IntegrationFault, match=r"gimbal singularity \(\|beta\| -> 90 deg\) at t = ") as info:
-        physics.simulate(Scenario.from_dict(GIMBAL))
-    assert 1.0 < info.value.t < 30.0
+# Without a spring the bob passes the Cardan angles' pole: the kernel switches charts (issue 17), so the
+# run goes on. With a spring on the Cardan angles (undefined at the pole) it still stops there, cleanly.
+def _gimbal(c_d: float, samples: int = 3001) -> Scenario:
+    d = {**GIMBAL, "pendulum": {**GIMBAL["pendulum"], "c_d": c_d}, "run": {**GIMBAL["run"], "samples": samples}}
+    return Scenario.from_dict(d)
 
 
-def test_gimbal_singularity_through_live_run():
-    run, _ = _live_until_stopped(Scenario.from_dict(GIMBAL))
+def _states(tr) -> np.ndarray:
+    return np.hstack([tr.omega] + [tr.internal[k][:, None] for k in ("alpha", "beta", "alpha_dot", "beta_dot")]
+                     + [tr.quat, tr.internal["W_diss"][:, None], tr.internal["chart"][:, None]])
+
+
+def _assert_invariants(tr, sc: Scenario, damped: bool) -> None:
+    """Inertial K conserved; E falls by the damper's work only (and stays put without a damper)."""
+    model = physics.get_model(sc.system, "full")
+    K, E = model.invariants(_states(tr), model.pack(sc))
+    W = tr.internal["W_diss"]
+    assert np.max(np.linalg.norm(K - K[0], axis=1)) <= INVARIANT_TOL * np.linalg.norm(K[0])
+    assert np.max(np.abs(E[0] - E - W)) <= INVARIANT_TOL * E[0]
+    if damped:
+        assert W[-1] > 1e-3 * E[0]  # the damper really worked
+    else:
+        assert np.all(W == 0.0) and np.max(np.abs(E - E[0])) <= INVARIANT_TOL * E[0]
+
+
+def _bob(tr, sc: Scenario) -> tuple[np.ndarray, np.ndarray]:
+    """The bob's position from the carrier's COM (n, 3) and its speed relative to the carrier (n,)."""
+    from physics.compiled import pendulum as kernel
+
+    p = physics.get_model(sc.system, "full").pack(sc)
+    Y = _states(tr)
+    R = np.array([kernel._state_geometry(y, p)[0][0] for y in Y])
+    speed = np.array([np.linalg.norm(kernel._state_geometry(y, p)[1][0] @ y[5:7]) for y in Y])
+    return R, speed
+
+
+@pytest.mark.parametrize("c_d", [0.001, 0.0], ids=["damped", "undamped"])
+def test_gimbal_pole_is_passed_through_simulate(c_d):
+    sc = _gimbal(c_d)
+    tr = physics.simulate(sc)
+    assert tr.t[-1] == 30.0 and tr.info["stop_reason"] == "reached t_end"
+    chart = tr.internal["chart"]
+    switches = int(np.sum(chart[1:] != chart[:-1]))
+    assert switches >= 3 and set(np.unique(chart)) == {0.0, 1.0}  # several passes near the old pole
+    assert np.max(np.abs(np.sin(tr.internal["beta"]))) < 1.0 - 1e-3  # neither chart comes near its own pole
+    _assert_invariants(tr, sc, damped=c_d > 0)
+    # the bob's position is continuous across the switches: between samples it moves at most its speed
+    # times the sample interval (a wrong map between the charts moves it by a good part of l = 0.3 m)
+    R, speed = _bob(tr, sc)
+    dt = np.diff(tr.t)
+    jump = np.linalg.norm(np.diff(R, axis=0), axis=1)
+    assert np.all(jump <= 1.5 * np.maximum(speed[1:], speed[:-1]) * dt + 1e-12)
+
+
+def test_a_chart_switch_keeps_the_motion_exactly():
+    from physics.compiled import pendulum as kernel
+
+    sc = _gimbal(0.001)
+    model = physics.get_model(sc.system, "full")
+    p = model.pack(sc)
+    tr = physics.simulate(sc)
+    done = 0
+    for y in _states(tr)[::20]:  # each sampled state, written in the other chart where that chart is regular
+        z = y.copy()
+        kernel.to_chart(z, 1 - int(y[kernel.CHART]))
+        assert z[kernel.CHART] != y[kernel.CHART]
+        if abs(math.cos(z[4])) < 0.3:
+            continue
+        done += 1
+        before, after = kernel._state_geometry(y, p), kernel._state_geometry(z, p)
+        assert np.allclose(after[0], before[0], rtol=0, atol=1e-15)  # the bob's position (m)
+        assert np.allclose(after[3], before[3], rtol=0, atol=1e-14)  # and velocity (m/s)
+        assert np.allclose(kernel.momentum(z, p), kernel.momentum(y, p), rtol=1e-13, atol=0)
+        assert kernel.energy(z, p) == pytest.approx(kernel.energy(y, p), rel=1e-13)
+    assert done >= 100
+    # switch_chart switches only near the pole of the chart in use (|beta| past 60 deg in chart 0)
+    y = _states(tr)[0].copy()
+    assert y[kernel.CHART] == 0.0 and kernel.switch_chart(y, p) == 0
+    y[4] = math.radians(61.0)
+    assert kernel.switch_chart(y, p) == 1 and y[kernel.CHART] == 1.0 and kernel.switch_chart(y, p) == 0
+
+
+def test_the_app_draws_the_bob_in_the_chart_in_use():
+    from app.scene import spherical_bob
+    from physics.compiled import pendulum as kernel
+
+    sc = _gimbal(0.0, samples=301)
+    p = physics.get_model(sc.system, "full").pack(sc)
+    tr = physics.simulate(sc)
+    Y = _states(tr)
+    assert set(np.unique(Y[:, kernel.CHART])) == {0.0, 1.0}
+    for y in Y:
+        R = kernel._state_geometry(y, p)[0][0]
+        pivot, bob = spherical_bob(sc.pendulum.h, sc.pendulum.l, y[3], y[4], y[kernel.CHART])
+        np.testing.assert_allclose(bob - pivot, R - p[kernel.HEADER + 4:kernel.HEADER + 7], atol=1e-15)
+
+
+def test_gimbal_pole_is_passed_through_live_run():
+    sc = _gimbal(0.001, samples=31)
+    run = LiveRun(sc)
+    rows = []
+    while run.t < 30.0 - 1e-9 and run.status == RUNNING:
+        rows.append(run.advance(min(0.5, 30.0 - run.t), samples=50))
+    assert run.status == RUNNING and run.message in (None, "") and run.t == pytest.approx(30.0, abs=1e-12)
+    chart = np.concatenate([r.internal["chart"] for r in rows])
+    assert int(np.sum(chart[1:] != chart[:-1])) >= 3
+    K = np.concatenate([r.K for r in rows])
+    E = np.concatenate([r.E for r in rows])
+    W = np.concatenate([r.internal["W_diss"] for r in rows])
+    assert np.max(np.abs(K - K[0])) <= INVARIANT_TOL * K[0]
+    assert np.max(np.abs(E[0] - E - W)) <= INVARIANT_TOL * E[0] and W[-1] > 1e-3 * E[0]
+
+
+def test_gimbal_singularity_with_a_spring_through_simulate():
+    with pytest.raises(IntegrationFault, match=r"gimbal singularity .*\(\|beta\| -> 90 deg\) at t = ") as info:
+        physics.simulate(Scenario.from_dict(GIMBAL_SPRING))
+    assert 1.0 < info.value.t < 30.0 and "spring" in str(info.value)
+
+
+def test_gimbal_singularity_with_a_spring_through_live_run():
+    run, _ = _live_until_stopped(Scenario.from_dict(GIMBAL_SPRING))
     assert run.status == FAULT and "gimbal singularity" in run.message
     ref = None
     try:
-        physics.simulate(Scenario.from_dict(GIMBAL))
+        physics.simulate(Scenario.from_dict(GIMBAL_SPRING))
     except IntegrationFault as exc:
         ref = exc.t
     assert _at(run.message) == pytest.approx(ref, rel=1e-5)  # where simulate stops, to the tolerance
     _assert_stopped_cleanly(run)
+
+
+def test_the_app_engine_runs_past_the_gimbal_pole():
+    from app.state import Engine
+
+    eng = Engine(Scenario.from_dict(GIMBAL))
+    eng.warp = 10.0
+    for _ in range(400):  # at least real time a tick: 40 s of simulated time at most
+        fr = eng.tick(0.1)
+        if fr.status != RUNNING or fr.t >= 30.0:
+            break
+    assert fr.status == RUNNING and not fr.message and fr.t >= 30.0
+    assert math.isfinite(fr.theta) and np.all(np.isfinite(fr.bobs[0][1]))
 
 
 # ---- the app: the tab pauses on a fault, keeps the last good state and says why --------------------------
@@ -188,7 +316,7 @@ def test_the_app_engine_refuses_a_scene_that_starts_non_finite_and_keeps_the_las
     assert eng.scenario == before and fr.status == RUNNING and math.isfinite(fr.E)
 
 
-@pytest.mark.parametrize("data, needle", [(GIMBAL, "gimbal singularity"),
+@pytest.mark.parametrize("data, needle", [(GIMBAL_SPRING, "gimbal singularity"),
                                           (STIFF_LIVE, "too stiff"), (BRAKING, "braking brought")])
 def test_the_app_engine_stops_and_shows_why(data, needle):
     from app.state import Engine

@@ -93,11 +93,13 @@ def random_plane(seed: int = 3, *, c_d: float = 0.0, t_end: float = 320.0) -> ph
 
 
 def states(tr: physics.Trajectory) -> np.ndarray:
-    """The model's state rows rebuilt from a trajectory: w, q, q', quaternion, W."""
+    """The model's state rows rebuilt from a trajectory: w, q, q', quaternion, W (and the spherical
+    pendulum's chart)."""
     names = ("alpha", "beta", "alpha_dot", "beta_dot") if "alpha" in tr.internal else \
         tuple(k for k in tr.internal if k.startswith("a") and not k.endswith("_dot")) + \
         tuple(k for k in tr.internal if k.endswith("_dot"))
     cols = [tr.omega] + [tr.internal[k][:, None] for k in names] + [tr.quat, tr.internal["W_diss"][:, None]]
+    cols += [tr.internal["chart"][:, None]] if "chart" in tr.internal else []
     return np.hstack(cols)
 
 
@@ -245,7 +247,8 @@ def test_rhs_agrees_with_the_two_body_lagrangian(which):
     nq = 2 if which == "spherical" else 3
     for _ in range(20):
         q = rng.uniform(-1.2, 1.2, nq)
-        y = np.concatenate([rng.normal(0, 1, 3), q, rng.normal(0, 2, nq), [1.0, 0.0, 0.0, 0.0], [0.0]])
+        y = np.concatenate([rng.normal(0, 1, 3), q, rng.normal(0, 2, nq), [1.0, 0.0, 0.0, 0.0], [0.0]]
+                           + ([[0.0]] if which == "spherical" else []))  # the spherical pendulum's chart 0
         ref, H_ref, E_ref = lagrangian_accelerations(system, y)
         f = model.rhs(0.0, y, p)
         got = np.concatenate([f[0:3], f[3 + nq:3 + 2 * nq]])

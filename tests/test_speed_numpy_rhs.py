@@ -17,7 +17,8 @@ def test_spherical_pendulum_rhs_matches_the_compiled_kernel(seed):
     model = physics.get_model(sc.system, "full")
     p = model.pack(sc)
     rng = np.random.default_rng(seed)
-    y = model.initial_state(sc, p) + 0.4 * rng.standard_normal(12)
+    y = model.initial_state(sc, p)
+    y[:12] += 0.4 * rng.standard_normal(12)  # not the chart (last): it stays 0, the Cardan angles
     y[7:11] /= np.linalg.norm(y[7:11])
     compiled = model.rhs(0.0, y, p)
     assert np.max(np.abs(spherical_pendulum_rhs(p)(0.0, y) - compiled)) <= RATE_TOL * np.max(np.abs(compiled))

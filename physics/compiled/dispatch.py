@@ -35,9 +35,20 @@ def rhs(model, t, y, p, out):
 @njit(cache=True)
 def fault(model, y, p):
     """0 while the state is valid; a positive code when the model has reached a state it cannot
-    continue from (the gimbal singularity): the integrator stops there with status MODEL_FAULT."""
+    continue from (the gimbal singularity with a spring on the Cardan angles): the integrator stops there
+    with status MODEL_FAULT."""
     if model == SPHERICAL_FULL:
         return pendulum_kernel.fault(y, p)
+    return 0
+
+
+@njit(cache=True)
+def switch_chart(model, y, p):
+    """Called after each accepted step: a model whose coordinates have a chart in use may re-express ``y``
+    in another chart in place (the spherical pendulum near its gimbal pole). 1 when ``y`` changed (the
+    integrator must then evaluate the right-hand side afresh), else 0."""
+    if model == SPHERICAL_FULL:
+        return pendulum_kernel.switch_chart(y, p)
     return 0
 
 

@@ -16,7 +16,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .dispatch import braking_norm, fault, rhs
+from .dispatch import braking_norm, fault, rhs, switch_chart
 from .tableau import DOP853 as _dop
 
 N_STAGES = _dop.N_STAGES
@@ -39,7 +39,8 @@ STATUS_TEXT = {
     NONFINITE: "state became non-finite (NaN or infinity)",
     UNDERFLOW: "step size underflow",
     MAX_STEPS: "too many steps",
-    MODEL_FAULT: "the spherical pendulum reached the gimbal singularity (|beta| -> 90 deg)",
+    MODEL_FAULT: "the spherical pendulum with a spring (k > 0) reached the gimbal singularity of its Cardan angles, "
+                 "where the spring is undefined (|beta| -> 90 deg)",
 }
 
 
@@ -151,6 +152,9 @@ def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps, h0, G0):
             factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err ** ERROR_EXPONENT)
             if not clipped:
                 h = h_try * factor
+            if switch_chart(model, y, p) > 0:  # same motion, new coordinates: f of the first stage afresh
+                rhs(model, t, y, p, f)
+                nfev += 1
             if fault(model, y, p) > 0:
                 status = 5
                 break

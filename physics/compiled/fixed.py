@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .dispatch import braking_norm, fault, rhs
+from .dispatch import braking_norm, fault, rhs, switch_chart
 from .dop853 import BRAKE_END
 from .tableau import DOP853 as _dop
 
@@ -138,6 +138,7 @@ def integrate(model, y0, p, t_out, dt, A, Bw, C, b, lam, G0):
             if not finite:
                 status = 2
                 break
+            switch_chart(model, y, p)  # the spherical pendulum near its gimbal pole: the other chart
             if fault(model, y, p) > 0:
                 status = 5
                 break

@@ -17,13 +17,19 @@ matrix of L), are
 Geometries (``kind`` = p[0]):
 - 0, spherical pendulum (Alger), one bob: q = (alpha, beta), arm e = R_x(alpha) R_y(beta) e3 =
   (sin b, -sin a cos b, cos a cos b), r = pivot + l e; spring k and damper c_d on both angles.
-  The Cardan angles are singular at |beta| = 90 deg (``fault``).
+  The Cardan angles are singular at |beta| = 90 deg (e = +-e1). Without a spring (k = 0) the run goes
+  on there by switching charts (``switch_chart``, after an accepted step): near e = +-e1 the angles
+  become those of chart 1, e = R_y(alpha) R_x(beta) e3 = (sin a cos b, -sin b, cos a cos b), singular
+  at e = +-e2 instead, with the damper on chart 1's angle rates (both charts' dampers dissipate
+  c (|e'|^2 + sin^2 b alpha'^2) >= 0, so E + W stays conserved); the chart in use is the last state
+  value. A spring acts on the Cardan angles themselves, which the bob's position does not determine
+  at the pole: with k > 0 the run still stops there (``fault``).
 - 1, N plane pendulums (Taylor): q_i = a_i, r_i = hinge_i + l_i (cos a_i e0_i + sin a_i f_i),
   f_i = n_i x e0_i; spring k_i, damper c_i.
 
-State (3 + 2 nq + 5), nq = 2 (spherical) or N (plane): w (3) carrier angular velocity, body
+State (3 + 2 nq + 5, + 1 spherical), nq = 2 (spherical) or N (plane): w (3) carrier angular velocity, body
 components, rad/s; q (nq) rad; q' (nq) rad/s; quaternion (4), scalar first, body -> inertial;
-W (1) work dissipated by the dampers, J.
+W (1) work dissipated by the dampers, J; the spherical pendulum's chart (0 or 1, index CHART = 12).
 
 Parameters p (12 + 16 N), see ``physics.models.pendulum.pack``:
     p[0]  kind (0 spherical, 1 plane)     p[1]  N, number of bobs     p[2]  M, total mass (kg)
@@ -45,6 +51,12 @@ HEADER = 12
 BOB = 16
 SPHERICAL, PLANE = 0, 1
 GIMBAL_LIMIT = 1e-3  # |cos beta| below which the Cardan angles are given up (mass matrix ~ cos^2 beta)
+CHART = 12  # the spherical pendulum's chart index in its state (after W)
+# |e_x| (= |sin beta| in chart 0) above which chart 0 gives way to chart 1 (beta past 60 deg), and below
+# which chart 1 gives way to chart 0 again (45 deg): the band between them keeps a run from switching
+# back and forth, and chart 1 never comes near its own pole (|beta_1| < 45 deg while in use).
+CHART_OUT = math.sin(math.pi / 3.0)
+CHART_BACK = math.sin(math.pi / 4.0)
 
 
 def n_params(n_bobs: int) -> int:
@@ -56,7 +68,7 @@ def n_coordinates(kind: int, n_bobs: int) -> int:
 
 
 def n_state(kind: int, n_bobs: int) -> int:
-    return 3 + 2 * n_coordinates(kind, n_bobs) + 5
+    return 3 + 2 * n_coordinates(kind, n_bobs) + 5 + (1 if kind == SPHERICAL else 0)
 
 
 @njit(cache=True)
@@ -78,12 +90,21 @@ def _geometry(y, p, R, Jq, Cq):
         a, b = y[3], y[4]
         ad, bd = y[5], y[6]
         sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
-        e = (sb, -sa * cb, ca * cb)
-        ea = (0.0, -ca * cb, -sa * cb)
-        eb = (cb, sa * sb, -ca * sb)
-        eaa = (0.0, sa * cb, -ca * cb)
-        eab = (0.0, ca * sb, sa * sb)
-        ebb = (-sb, sa * cb, -ca * cb)
+        if y.size <= CHART or y[CHART] < 0.5:  # chart 0, the Cardan angles of MODELS B.2 (a state without
+            # the chart value, 12 long as before issue 17, is read as chart 0 rather than read past its end)
+            e = (sb, -sa * cb, ca * cb)
+            ea = (0.0, -ca * cb, -sa * cb)
+            eb = (cb, sa * sb, -ca * sb)
+            eaa = (0.0, sa * cb, -ca * cb)
+            eab = (0.0, ca * sb, sa * sb)
+            ebb = (-sb, sa * cb, -ca * cb)
+        else:  # chart 1, near chart 0's pole
+            e = (sa * cb, -sb, ca * cb)
+            ea = (ca * cb, 0.0, -sa * cb)
+            eb = (-sa * sb, -cb, -ca * sb)
+            eaa = (-sa * cb, 0.0, -ca * cb)
+            eab = (-ca * sb, 0.0, sa * sb)
+            ebb = (-sa * cb, sb, -ca * cb)
         for j in range(3):
             R[0, j] = p[o + 4 + j] + l * e[j]
             Jq[0, j, 0] = l * ea[j]
@@ -308,14 +329,67 @@ def rhs(t, y, p, out):
     out[o + 2] = 0.5 * (qw * w2 + qz * w1 - qx * w3)
     out[o + 3] = 0.5 * (qw * w3 + qx * w2 - qy * w1)
     out[o + 4] = power
+    if p[0] == SPHERICAL and out.size > CHART:
+        out[CHART] = 0.0  # the chart changes only by switch_chart
 
 
 @njit(cache=True)
 def fault(y, p):
-    """1 at the spherical pendulum's gimbal singularity (|cos beta| < GIMBAL_LIMIT), else 0."""
-    if p[0] == SPHERICAL and abs(math.cos(y[4])) < GIMBAL_LIMIT:
+    """1 at the spherical pendulum's gimbal singularity (|cos beta| < GIMBAL_LIMIT) with a spring on the
+    Cardan angles (k != 0; without one the chart switches before), else 0."""
+    if p[0] == SPHERICAL and p[HEADER + 2] != 0.0 and abs(math.cos(y[4])) < GIMBAL_LIMIT:
         return 1
     return 0
+
+
+@njit(cache=True)
+def _direction(chart, a, b):
+    """The arm direction e and its unit-speed tangents de/da, de/db of ``chart`` (|de/da| = cos b,
+    |de/db| = 1, orthogonal)."""
+    sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
+    if chart == 0:
+        return (np.array([sb, -sa * cb, ca * cb]), np.array([0.0, -ca * cb, -sa * cb]),
+                np.array([cb, sa * sb, -ca * sb]))
+    return (np.array([sa * cb, -sb, ca * cb]), np.array([ca * cb, 0.0, -sa * cb]),
+            np.array([-sa * sb, -cb, -ca * sb]))
+
+
+@njit(cache=True)
+def switch_chart(y, p):
+    """Re-express the spherical pendulum's bob in the other chart when it nears the pole of the one in use
+    (k = 0 only): the same arm direction e and rate e' (so the same position, velocity, H and E), new
+    angles and rates, in place. Returns 1 when it switched, else 0."""
+    if p[0] != SPHERICAL or p[HEADER + 2] != 0.0 or y.size <= CHART:
+        return 0
+    chart = 0 if y[CHART] < 0.5 else 1
+    ex = abs(math.sin(y[4]) if chart == 0 else math.sin(y[3]) * math.cos(y[4]))  # |e_x|
+    if chart == 0 and ex > CHART_OUT:
+        to_chart(y, 1)
+        return 1
+    if chart == 1 and ex < CHART_BACK:
+        to_chart(y, 0)
+        return 1
+    return 0
+
+
+@njit(cache=True)
+def to_chart(y, new):
+    """Write the spherical pendulum's angles and rates of ``y`` in chart ``new``, in place: the same arm
+    direction e and rate e'. (Exact away from the new chart's pole, where its alpha' would divide by 0.)"""
+    e, ea, eb = _direction(0 if y[CHART] < 0.5 else 1, y[3], y[4])
+    if new == 1:
+        b = math.atan2(-e[1], math.hypot(e[0], e[2]))
+        a = math.atan2(e[0], e[2])
+    else:
+        b = math.atan2(e[0], math.hypot(e[1], e[2]))
+        a = math.atan2(-e[1], e[2])
+    ed = ea * y[5] + eb * y[6]
+    _, fa, fb = _direction(new, a, b)
+    cb = math.cos(b)
+    y[3], y[4] = a, b
+    y[5] = (ed[0] * fa[0] + ed[1] * fa[1] + ed[2] * fa[2]) / (cb * cb)
+    y[6] = ed[0] * fb[0] + ed[1] * fb[1] + ed[2] * fb[2]
+    y[CHART] = float(new)
 
 
 @njit(cache=True, nogil=True)

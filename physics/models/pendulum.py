@@ -47,7 +47,8 @@ def _nq(p: np.ndarray) -> int:
 def initial_state(sc: Scenario, p: np.ndarray) -> np.ndarray:
     w0, _, _ = initial_G(sc)
     nq = _nq(p)
-    return np.concatenate([w0, np.zeros(2 * nq), IDENTITY, [0.0]])
+    chart = [0.0] if p[0] == kernel.SPHERICAL else []  # the spherical pendulum starts in its Cardan chart
+    return np.concatenate([w0, np.zeros(2 * nq), IDENTITY, [0.0], chart])
 
 
 def _internal(Y: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
@@ -58,6 +59,8 @@ def _internal(Y: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
         names = tuple(f"a{i + 1}" for i in range(nq)) + tuple(f"a{i + 1}_dot" for i in range(nq))
     internal = {name: Y[:, 3 + i].copy() for i, name in enumerate(names)}
     internal["W_diss"] = Y[:, 3 + 2 * nq + 4].copy()
+    if p[0] == kernel.SPHERICAL:  # alpha, beta and their rates are those of this chart (compiled/pendulum.py)
+        internal["chart"] = Y[:, kernel.CHART].copy()
     return internal
 
 
@@ -79,9 +82,9 @@ def invariants(Y, p):
 SPHERICAL_FULL = register(Model(
     name="spherical_pendulum/full", system="spherical_pendulum", fidelity="full",
     summary="carrier + spherical pendulum (Alger) on a Cardan pivot, exact reduced multibody equations (MODELS B.2)",
-    state=("wx", "wy", "wz", "alpha", "beta", "alpha_dot", "beta_dot", "qw", "qx", "qy", "qz", "W_diss"),
+    state=("wx", "wy", "wz", "alpha", "beta", "alpha_dot", "beta_dot", "qw", "qx", "qy", "qz", "W_diss", "chart"),
     kernel=kernels.SPHERICAL_FULL, pack=pack, initial_state=initial_state, observe=observe, invariants=invariants,
-    columns=("alpha", "beta", "alpha_dot", "beta_dot", "W_diss"),
+    columns=("alpha", "beta", "alpha_dot", "beta_dot", "W_diss", "chart"),
 ))
 
 PLANE_FULL = register(Model(
