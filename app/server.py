@@ -9,6 +9,7 @@ import threading
 import time
 import traceback
 import warnings
+from collections import deque
 
 import viser
 
@@ -37,6 +38,9 @@ class App:
         self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
         self.sessions: dict[int, Session] = {}
         self.stats: dict = {}
+        # (client id, frames its session published) of the last closed tabs: bench/load.py compares them
+        # with what each client received; bounded, so a server up for days keeps no record per tab
+        self.closed_frames: deque[tuple[int, int]] = deque(maxlen=1000)
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
 
@@ -44,6 +48,7 @@ class App:
         try:
             self.sessions[client.client_id] = Session(self.server, client, self.scenario, self.stats, self.mesh)
             self.stats["sessions"] = len(self.sessions)
+            self.stats["opened"] = self.stats.get("opened", 0) + 1
         except Exception:
             traceback.print_exc()
 
@@ -52,6 +57,8 @@ class App:
         self.stats["sessions"] = len(self.sessions)
         if s is not None:
             s.close()
+            self.stats["closed"] = self.stats.get("closed", 0) + 1
+            self.closed_frames.append((client.client_id, s.published))
             # A closed session is cyclic garbage (the client's GUI handles hold our callbacks, which close
             # over the session), which only a full collection frees; CPython runs one only after the
             # long-lived objects grow by a quarter (~35k here), so each reconnection kept its ~3 MB for

@@ -13,7 +13,10 @@ which is what a browser would redraw.
 
 Prints one JSON object (also written to ``bench/results/load.json``): per client the minimum and
 median updates per second over the measured seconds, and the server's RSS over time. The first
-``--warmup`` seconds (sessions starting, JIT caches loading) are not measured.
+``--warmup`` seconds (sessions starting, JIT caches loading) are not measured. Counts too, which a busy
+machine does not change (tests/test_load.py, tests/test_soak.py assert them): per session, the body updates
+its client received over the frames the server published for it (``delivered``); sessions opened and
+closed; and the ``Session`` objects still alive once every client has left and the server's cleanup ran.
 """
 
 from __future__ import annotations
@@ -27,8 +30,10 @@ import platform
 import statistics
 import subprocess
 import sys
+import threading
 import time
 import warnings
+import weakref
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -37,8 +42,9 @@ BODY_NODE = "/body"  # the session's body frame is /s<client id>/body (app/serve
 
 
 # ---- the client side (child process) ---------------------------------------------------------------
-def _moves_body(raw: bytes) -> bool:
-    """Whether one viser window (see viser.infra._infra._message_producer) updates a body frame's pose."""
+def _body_moved(raw: bytes) -> int | None:
+    """The client id of the session whose body frame one viser window (see
+    viser.infra._infra._message_producer) turns (its node is /s<id>/body), or None."""
     import msgspec
     import zstandard
 
@@ -46,9 +52,16 @@ def _moves_body(raw: bytes) -> bool:
     clen = int.from_bytes(raw[8:16], "little")
     inner = zstandard.ZstdDecompressor().decompress(raw[16:16 + clen], max_output_size=size)
     for m in msgspec.msgpack.decode(inner)["messages"]:
-        if m.get("type") == "SetOrientationMessage" and str(m.get("name", "")).endswith(BODY_NODE):
-            return True
-    return False
+        name = str(m.get("name", ""))
+        if m.get("type") == "SetOrientationMessage" and name.startswith("/s") and name.endswith(BODY_NODE):
+            root = name[2:-len(BODY_NODE)]
+            return int(root) if root.isdigit() else None
+    return None
+
+
+def _moves_body(raw: bytes) -> bool:
+    """Whether one viser window updates a session's body frame's pose."""
+    return _body_moved(raw) is not None
 
 
 def _camera_message() -> bytes:
@@ -61,7 +74,8 @@ def _camera_message() -> bytes:
 
 
 async def _client(url: str, seconds: float, reconnect_every: float | None, counts: list[int],
-                  windows: list[int], errors: list[str]) -> None:
+                  windows: list[int], errors: list[str], by_session: dict[str, int]) -> None:
+    """``by_session``: body updates received, per session (client id) this client was given."""
     import viser
     from websockets.asyncio.client import connect
 
@@ -83,18 +97,19 @@ async def _client(url: str, seconds: float, reconnect_every: float | None, count
                         counts.append(0)
                         windows.append(0)
                     windows[second] += 1
-                    if isinstance(raw, bytes) and _moves_body(raw):
+                    if isinstance(raw, bytes) and (sid := _body_moved(raw)) is not None:
                         counts[second] += 1
+                        by_session[str(sid)] = by_session.get(str(sid), 0) + 1
         except Exception as exc:  # recorded and reported: a client that cannot stay connected is a failure
             errors.append(f"{type(exc).__name__}: {exc}")
             await asyncio.sleep(0.5)
 
 
 async def _clients(url: str, n: int, seconds: float, reconnect_every: float | None) -> list[dict]:
-    results = [dict(counts=[], windows=[], errors=[]) for _ in range(n)]
+    results = [dict(counts=[], windows=[], errors=[], by_session={}) for _ in range(n)]
     # only the last client reconnects, so the others measure a steady tab's rate
     await asyncio.gather(*(_client(url, seconds, reconnect_every if i == n - 1 else None, r["counts"],
-                                   r["windows"], r["errors"]) for i, r in enumerate(results)))
+                                   r["windows"], r["errors"], r["by_session"]) for i, r in enumerate(results)))
     return results
 
 
@@ -162,6 +177,8 @@ def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_ev
     load: list[float] = []
     names = presets.preset_names()
     churned = 0
+    churns: list[tuple[weakref.ref, int]] = []  # (session, change seq) of each preset load asked for
+    churn_shown: set[int] = set()  # indices into churns whose session published a frame showing the load
     next_churn = warmup if churn_every else float("inf")
     visited = False
     try:
@@ -172,6 +189,7 @@ def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_ev
             rss.append((now, rss_bytes()))
             frames.append((now, app.stats.get("frames", 0)))
             load.append(os.getloadavg()[0])
+            _note_shown(churns, churn_shown)
             for cid, session in list(app.sessions.items()):
                 recent = list(session.frame_ms)
                 if recent:
@@ -188,10 +206,13 @@ def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_ev
             if now >= next_churn and app.sessions:
                 session = next(iter(app.sessions.values()))
                 churned += 1
-                session.engine.request("preset", names[churned % len(names)])
+                churns.append((weakref.ref(session), session.engine.request("preset", names[churned % len(names)])))
                 next_churn += churn_every
+            session = None  # the bench must hold no session: the live sessions are counted at the end
             time.sleep(sample_every)
         out, err = proc.communicate()
+        _note_shown(churns, churn_shown)
+        ends = _after_clients_left(app)
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -203,11 +224,61 @@ def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_ev
     per_client = json.loads(out)
     res = summarize(per_client, rss, frames, seconds=seconds, warmup=warmup, clients=clients,
                     churned=churned, sessions_left=sessions_left, reconnect_every=reconnect_every)
+    res.update(ends)
+    res["churned_presets_shown"] = len(churn_shown)
+    res.update(_delivered(per_client, ends["published_by_session"]))
     res["median_tick_ms"] = statistics.median(v[0] for v in frame_ms.values()) if frame_ms else None
     res["median_publish_ms"] = statistics.median(v[1] for v in frame_ms.values()) if frame_ms else None
     res["load_average_1min_median"] = statistics.median(load) if load else None  # other work on the machine
     res["malloc_trim_before_samples"] = trim
     return res
+
+
+def _note_shown(churns: list, shown: set[int]) -> None:
+    """Which preset loads a frame has shown: the session records the first frame after each change."""
+    for i, (ref, seq) in enumerate(churns):
+        session = ref()
+        if i not in shown and session is not None and seq in session.first_frame_after:
+            shown.add(i)
+
+
+def _after_clients_left(app, wait: float = 15.0) -> dict:
+    """Counts once every client has gone: sessions opened and closed, the frames each session published,
+    and the ``Session`` objects still alive. A closed session is cyclic garbage that App frees in a
+    ``collect-session`` thread (app/server.py ``_collect_closed``); those threads are waited for, and
+    nothing here runs a collection itself, so a session that cleanup missed is counted."""
+    import gc
+
+    from app.session import Session
+
+    end = time.perf_counter() + wait
+    while app.sessions and time.perf_counter() < end:  # the clients' last disconnections being handled
+        time.sleep(0.1)
+    time.sleep(0.5)  # a collect thread is started by the disconnect callback, just after the pop above
+    for t in threading.enumerate():
+        if t.name == "collect-session":
+            t.join(timeout=max(0.1, end - time.perf_counter()))
+    published = {str(cid): n for cid, n in app.closed_frames}
+    published.update({str(cid): s.published for cid, s in app.sessions.items()})
+    objects = gc.get_objects()
+    live = sum(isinstance(o, Session) for o in objects)
+    return dict(sessions_opened=app.stats.get("opened", 0), sessions_closed=app.stats.get("closed", 0),
+                live_sessions_after_clients_left=live - len(app.sessions), gc_objects_after_clients_left=len(objects),
+                published_by_session=published)
+
+
+def _delivered(per_client: list[dict], published: dict[str, int]) -> dict:
+    """Per session, the body updates its client received over the frames the server published for it (one
+    frame, one body turn): a client that falls behind, or whose updates the server drops, receives fewer."""
+    rows = []
+    for i, c in enumerate(per_client):
+        for sid, got in c["by_session"].items():
+            sent = published.get(sid, 0)
+            rows.append(dict(client=i, session=sid, received=got, published=sent,
+                             fraction=got / sent if sent else float("nan")))
+    fractions = [r["fraction"] for r in rows if r["published"]]
+    return dict(delivered=rows, min_delivered_fraction=min(fractions) if fractions else float("nan"),
+                sessions_seen_by_clients=len(rows))
 
 
 def summarize(per_client, rss, frames, *, seconds, warmup, clients, churned, sessions_left, reconnect_every):
@@ -249,11 +320,14 @@ def main(argv: list[str] | None = None) -> int:
     res["command"] = "python -m bench load " + " ".join(argv if argv is not None else sys.argv[1:])
     a.out.parent.mkdir(parents=True, exist_ok=True)
     a.out.write_text(json.dumps(res, indent=1))
-    print(json.dumps({k: v for k, v in res.items() if k not in ("rss_mb_series", "clients_detail")}))
+    print(json.dumps({k: v for k, v in res.items() if k not in ("rss_mb_series", "clients_detail", "delivered")}))
     ok = res["steady_min_updates_per_s"] >= TARGET_UPDATES_PER_S
     print(f"load: {a.clients} clients, {a.minutes:g} min: slowest client's worst second "
           f"{res['steady_min_updates_per_s']} updates/s (target >= {TARGET_UPDATES_PER_S:g}); server RSS "
-          f"{res['rss_mb_after_warmup']:.1f} -> {res['rss_mb_end']:.1f} MB ({100 * res['rss_growth']:+.2f} %)")
+          f"{res['rss_mb_after_warmup']:.1f} -> {res['rss_mb_end']:.1f} MB ({100 * res['rss_growth']:+.2f} %); each "
+          f"session's client received >= {res['min_delivered_fraction']:.3f} of its published frames; sessions opened "
+          f"{res['sessions_opened']}, closed {res['sessions_closed']}, alive after the clients left "
+          f"{res['live_sessions_after_clients_left']}")
     return 0 if ok else 1
 
 

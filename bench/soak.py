@@ -11,7 +11,8 @@ first and last tenth of its samples). Target (issue 7): growth under 5 % over 60
 clients connect, every preset is run once, so the kernels' one-time loading is not counted as growth.
 
 Prints one JSON object (also written to ``bench/results/soak.json``) and a one-line summary; exits
-with 1 when the growth reaches the target or a steady client fell below 30 updates per second.
+with 1 when the growth reaches the target, a steady client fell below 30 updates per second, or a
+``Session`` object is still alive once every client has left (bench/load.py counts them).
 """
 
 from __future__ import annotations
@@ -45,12 +46,15 @@ def main(argv: list[str] | None = None) -> int:
     res["command"] = "python -m bench soak " + " ".join(argv if argv is not None else sys.argv[1:])
     a.out.parent.mkdir(parents=True, exist_ok=True)
     a.out.write_text(json.dumps(res, indent=1))
-    print(json.dumps({k: v for k, v in res.items() if k not in ("rss_mb_series",)}))
+    print(json.dumps({k: v for k, v in res.items() if k not in ("rss_mb_series", "delivered")}))
     print(f"soak: {a.minutes:g} min, {a.clients} clients, {res['churned_presets']} preset loads: server RSS "
           f"{res['rss_mb_after_warmup']:.1f} MB after {warmup:g} s warm-up -> {res['rss_mb_end']:.1f} MB at the end "
           f"({100 * res['rss_growth']:+.2f} %, target < {100 * TARGET_GROWTH:g} %); steady clients' worst second "
-          f"{res['steady_min_updates_per_s']} updates/s")
-    ok = res["rss_growth"] < TARGET_GROWTH and res["steady_min_updates_per_s"] >= TARGET_UPDATES_PER_S
+          f"{res['steady_min_updates_per_s']} updates/s; {res['sessions_opened']} sessions opened, "
+          f"{res['sessions_closed']} closed, {res['live_sessions_after_clients_left']} alive after the clients left; "
+          f"{res['churned_presets_shown']} preset loads shown")
+    ok = (res["rss_growth"] < TARGET_GROWTH and res["steady_min_updates_per_s"] >= TARGET_UPDATES_PER_S
+          and res["live_sessions_after_clients_left"] == 0)
     return 0 if ok else 1
 
 

@@ -1,7 +1,11 @@
-"""Soak (issue 7): ``python -m bench soak --minutes 2`` in CI (docs/reliability.md has a longer run).
-Two websocket clients watch while one session loads a preset every 10 s and the second client reconnects
-every 30 s; after the warm-up the server's resident memory must grow by less than 5 %, the target the
-issue sets for 60 minutes."""
+"""Soak (issue 7), by counts: ``python -m bench soak`` for one minute, two websocket clients watching while
+one session loads the next preset every 5 s and the second client reconnects every 5 s (a session built
+and torn down each time). Memory is checked by counting objects, not by RSS on shared cores: after every
+client has left and the server's cleanup has run, no ``Session`` object is alive. A closed session is
+cyclic garbage that App frees itself (app/server.py ``_collect_closed``); without that, the sessions of
+the last dozens of reconnections stay alive until Python's next full collection (docs/reliability.md,
+"The leak"). The RSS target (growth under 5 % over 60 minutes) is the benchmark's:
+``python -m bench soak --minutes 60`` prints and records it."""
 
 from __future__ import annotations
 
@@ -13,18 +17,29 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-MINUTES = 2.0
-GROWTH_MAX = 0.05
+MINUTES, WARMUP, EVERY = 1.0, 12.0, 5.0  # EVERY: seconds between preset loads, and between reconnections
+DELIVERED_MIN = 0.75  # as tests/test_load.py: body updates received over frames published, per session
+RECONNECTIONS_MIN = 6  # about 11 are scheduled; enough that sessions the cleanup missed would be seen
+CHURN_MIN = 4  # about 9 are scheduled after the warm-up
 
 
 @pytest.mark.slow
-def test_soak_memory_growth_after_warmup(tmp_path):
+def test_soak_frees_every_session_and_shows_every_preset_load(tmp_path):
     out = tmp_path / "soak.json"
-    proc = subprocess.run([sys.executable, "-m", "bench", "soak", "--minutes", str(MINUTES), "--out", str(out)],
+    proc = subprocess.run([sys.executable, "-m", "bench", "soak", "--minutes", str(MINUTES), "--warmup", str(WARMUP),
+                           "--churn", str(EVERY), "--reconnect", str(EVERY), "--out", str(out)],
                           cwd=ROOT, capture_output=True, text=True, timeout=60 * MINUTES + 240)
     assert out.exists(), proc.stderr[-3000:]
     res = json.loads(out.read_text())
-    assert res["churned_presets"] >= 0.6 * (60 * MINUTES - res["warmup_s"]) / 10  # the change paths ran
     assert all(c["n_errors"] == 0 for c in res["clients_detail"]), res["clients_detail"]
-    assert res["clients_detail"][0]["median_updates_per_s"] > 0 and res["sessions_left_at_end"] == 0
-    assert res["rss_growth"] < GROWTH_MAX, (res["rss_growth"], res["rss_mb_series"])
+    # every connection got a session and every session was closed; the client saw each one's frames
+    assert res["sessions_opened"] >= 1 + RECONNECTIONS_MIN, res["sessions_opened"]
+    assert res["sessions_closed"] == res["sessions_opened"] == res["sessions_seen_by_clients"], res
+    assert res["sessions_left_at_end"] == 0
+    for r in res["delivered"]:
+        assert r["published"] > 0 and r["received"] >= DELIVERED_MIN * r["published"], r
+    # the change paths ran: each preset load asked for was applied and a frame showing it was published
+    assert res["churned_presets"] >= CHURN_MIN, res["churned_presets"]
+    assert res["churned_presets_shown"] == res["churned_presets"], res
+    # memory, by count: no Session outlived its tab
+    assert res["live_sessions_after_clients_left"] == 0, res["live_sessions_after_clients_left"]
