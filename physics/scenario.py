@@ -33,6 +33,7 @@ MAX_BYTES = 1_000_000  # a scenario is a few hundred bytes; a cap keeps uploads 
 # it has a few dozen keys; these caps leave a wide margin.
 MAX_KEY_PARTS = 8  # parts of one dotted key or table header: a.b.c has 3
 MAX_KEYS = 2_000  # key/value lines and table headers in one file
+MAX_PLANE_PENDULUMS = 24  # a ring damper has a handful; each one adds 2 states and a rigid-body coupling
 MAX_NESTING = 32  # arrays and inline tables inside one another
 BOM = "\ufeff"  # a UTF-8 byte-order mark, written by some editors: not part of the TOML
 
@@ -60,6 +61,10 @@ class Scenario:
                 field = "l" if bob.l >= reach / 2 else place
                 raise ScenarioError(f"{where}.{field}", getattr(bob, field), "is too large: the bob's moment about "
                                     f"O, m (|r| + l)^2 = {bob.m:.3g} * ({reach:.3g})^2, must stay finite")
+        if len(self.plane_pendulums) > MAX_PLANE_PENDULUMS:
+            raise ScenarioError("plane_pendulum", f"{len(self.plane_pendulums)} tables",
+                                f"at most {MAX_PLANE_PENDULUMS} plane pendulums (a damper has a few; 200 made each "
+                                "frame of the explorer take seconds)")
         parts = [name for name, present in (("mass", self.mass is not None), ("pendulum", self.pendulum is not None),
                                             ("plane_pendulum", bool(self.plane_pendulums))) if present]
         if len(parts) > 1:

@@ -282,3 +282,18 @@ def test_an_argument_with_a_newline_is_echoed_on_one_line(capsys):
         cli.main(["run", "run", "\n" + "x" * 1000])
     err = capsys.readouterr().err
     assert info.value.code == 2 and err.count("\n") == 1 and "\\n" in err and len(err) < 400
+
+
+def test_a_scene_with_too_many_plane_pendulums_is_refused_naming_the_table():
+    """200 plane pendulums in a 20 kB upload took 5-13 s a frame in the explorer (issue 17)."""
+    from physics.scenario import MAX_PLANE_PENDULUMS
+
+    def scene(n):
+        return {"body": {"A": 1.0, "C": 1.4, "M": 10.0},
+                "plane_pendulum": [{"preset": "in_plane", "m": 0.001, "l": 0.1, "k": 0.5, "c_d": 0.01, "R": 0.5,
+                                    "azimuth": 6.283185307179586 * i / n} for i in range(n)],
+                "initial": {"G0": 2.0, "theta0": 0.3}, "run": {"fidelity": "full", "t_end": 1.0}}
+
+    assert len(physics.Scenario.from_dict(scene(MAX_PLANE_PENDULUMS)).plane_pendulums) == MAX_PLANE_PENDULUMS
+    with pytest.raises(physics.ScenarioError, match=rf"^plane_pendulum = '200 tables': at most {MAX_PLANE_PENDULUMS}"):
+        physics.Scenario.from_dict(scene(200))
