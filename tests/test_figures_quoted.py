@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import re
 import statistics
 from pathlib import Path
@@ -81,6 +82,72 @@ def best_decay(key: str) -> float:
     return float(min(ok, key=lambda r: float(r["decay_time"]))[key])
 
 
+def curve(name: str, series: str) -> list[tuple[float, float]]:
+    """The (x, y) points of one series of a ``python -m bench figures`` CSV (long format: series, x, y)."""
+    path = ROOT / "docs" / name
+    with path.open(newline="") as f:
+        return [(float(r[1]), float(r[2])) for r in list(csv.reader(f))[1:] if r[0] == series]
+
+
+def end(name: str, series: str) -> float:
+    return curve(name, series)[-1][1]
+
+
+def at(name: str, series: str, x: float) -> float:
+    """The series at ``x``, linear between the file's points (the k* grid is 0.01 apart)."""
+    points = curve(name, series)
+    (x0, y0), (x1, y1) = next((p, q) for p, q in zip(points, points[1:], strict=False) if p[0] <= x <= q[0])
+    return y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+
+
+def full_point(ratio: float) -> float:
+    (value,) = [y for x, y in curve(RESONANCE, "full model") if x == ratio]
+    return value
+
+
+def resonance_minimum(index: int) -> float:
+    return min(curve(RESONANCE, "linear"), key=lambda p: p[1])[index]
+
+
+def averaged_gap() -> float:
+    """The largest gap between the full and averaged theta at eps = 1/4, relative to theta0 (same time grid)."""
+    full, averaged = curve(AVERAGED, "eps=0.25 full"), curve(AVERAGED, "eps=0.25 averaged")
+    assert [t for t, _ in full] == [t for t, _ in averaged]
+    return max(abs(p[1] - q[1]) for p, q in zip(full, averaged, strict=True)) / full[0][1]
+
+
+def decay_rate(series: str) -> float:
+    """Least-squares slope of -log theta between 0.8 and 0.01 theta0, 1/s: the window docs/figures.md names
+    (tests/test_pendulum_full.py::decay_rate), on one series of the averaged-against-full data."""
+    points = curve(AVERAGED, series)
+    theta0, window = points[0][1], []
+    for t, theta in points:
+        if theta < 0.01 * theta0:
+            break
+        if theta <= 0.8 * theta0:
+            window.append((t, math.log(theta)))
+    return -statistics.linear_regression([t for t, _ in window], [y for _, y in window]).slope
+
+
+def full_model_gap(shape: str) -> float:
+    """The largest distance, rad, of a seed 004 physical counterpart's full-model run from its eq. (24) curve
+    (the curve taken linearly between its points, at the full model's tau up to the curve's end)."""
+    end_tau = curve(PHYSICAL, f"Fig.1 {shape} curve 1")[-1][0]
+    return max(abs(theta - at(PHYSICAL, f"Fig.1 {shape} curve 1", tau))
+               for tau, theta in curve(PHYSICAL, f"Fig.1 {shape} curve 1 full model") if tau <= end_tau)
+
+
+# docs/figures.md's data (python -m bench figures), named from docs/ as the page links them
+FIG1 = "img/seed000_fig1.csv"
+FIGS4 = "img/seed004_figs1-4.csv"
+KSTAR = "img/seed004_final_vs_kstar.csv"
+PHYSICAL = "img/seed004_physical.csv"
+RESONANCE = "img/seed002_resonance.csv"
+AVERAGED = "img/seed002_averaged_vs_full.csv"
+FLAT = "img/explorer1_flat_spin.csv"
+F = "docs/figures.md"
+LIST = r"[\d.]+(?:, | and )"  # one earlier figure of a list, so each pattern picks its own
+
 # docs/sweeps.md's timing table: (row label as a pattern, executor, workers) -> its four wall times
 SCALING_ROWS = [
     (r"in this process \(`executor=\"serial\"`, warm\)", "serial", "1"),
@@ -111,8 +178,10 @@ FIGURES = [
     ("README.md", r"took [\d.]+ s \((\d+\.\d+) times warm\)", COLD,
      lambda: median(COLD, "moving_s", cache="cold-inline") / median(COLD, "moving_s", cache="warm")),
     ("README.md", r"\((\d+) launches each, load average", COLD, lambda: len(col(COLD, "moving_s", cache="cold"))),
-    ("README.md", r"load average (\d+)-\d+ from other jobs", COLD, lambda: min(col(COLD, "load1"))),
-    ("README.md", r"load average \d+-(\d+) from other jobs", COLD, lambda: max(col(COLD, "load1"))),
+    ("README.md", r"3 launches each, load average (\d+)-\d+\)", COLD, lambda: min(col(COLD, "load1"))),
+    ("README.md", r"3 launches each, load average \d+-(\d+)\)", COLD, lambda: max(col(COLD, "load1"))),
+    ("README.md", r"compiled kernels took over (\d+\.\d+) s after a cold start", COLD,
+     lambda: median(COLD, "fast_integrator_s", cache="cold")),
     # the explorer's rates (python bench/explorer_rates.py)
     ("README.md", r"about 1: (\d+\.\d+) frames published per s at 1x", RATES,
      lambda: rate("frames published per s at 1x")),
@@ -166,6 +235,48 @@ FIGURES = [
     ("docs/reliability.md", r"it had 30 or more in (\d+\.\d+) % of its seconds", SOAK,
      lambda: 100 * steady("seconds_at_target")),
     ("docs/reliability.md", r"Its worst second was (\d+), so", SOAK, lambda: steady("min_updates_per_s")),
+    # docs/figures.md, the reproduced figures (python -m bench figures, full mode)
+    (F, r"`sigma = \+0.02` ends at (\d+\.\d+) rad", FIG1, lambda: end(FIG1, "a: (3.8) sigma=+0.02")),
+    (F, r"\(pi/2 = 1.571\) and `-0.02` at (\d+\.\d+)", FIG1, lambda: end(FIG1, "a: (3.8) sigma=-0.02")),
+    (F, r"`sigma = ±50` end at (\d+\.\d+) and", FIG1, lambda: end(FIG1, "a: (3.8) sigma=+50")),
+    (F, r"`sigma = ±50` end at [\d.]+ and (\d+\.\d+)", FIG1, lambda: end(FIG1, "a: (3.8) sigma=-50")),
+    *[(F, rf"The final angles are {LIST * i}(\d+\.\d+),? [\d., and]*rad at k\* = 1, 0.5 and 0.1", FIGS4,
+       (lambda s=s: end(FIGS4, f"Fig.1 curve {s}")))
+      for i, s in enumerate(("1 G1=1 G2=1 k*=1", "2 G1=1 G2=1 k*=0.5", "3 G1=1 G2=1 k*=0.1"))],
+    *[(F, rf"rises monotonically with k\*: {LIST * i}(\d+\.\d+)", KSTAR,
+       (lambda k=k: at(KSTAR, "theta(tau_T)", k)))
+      for i, k in enumerate((0.1, 0.5, 0.8, 1.0, 2.0, 3.0))],
+    (F, r"At k\* = 5 it falls monotonically from (\d+\.\d+)", FIGS4,
+     lambda: curve(FIGS4, "Fig.2 curve 3 G1=1 G2=1 k*=5")[0][1]),
+    (F, r"At k\* = 5 it falls monotonically from [\d.]+ to (\d+\.\d+) rad", FIGS4,
+     lambda: end(FIGS4, "Fig.2 curve 3 G1=1 G2=1 k*=5")),
+    *[(F, rf"The final angles are {LIST * i}(\d+\.\d+),? [\d., and]*rad, each falling", FIGS4,
+       (lambda s=s: end(FIGS4, f"Fig.3 curve {s}")))
+      for i, s in enumerate(("1 G1=1 G2=1 k*=0.5", "2 G1=5 G2=1 k*=0.5", "3 G1=10 G2=1 k*=0.5"))],
+    *[(F, rf"The final angles are {LIST * i}(\d+\.\d+),? [\d., and]*rad for Gamma2", FIGS4,
+       (lambda s=s: end(FIGS4, f"Fig.4 curve {s}")))
+      for i, s in enumerate(("1 G1=0.001 G2=1 k*=1", "2 G1=0.001 G2=10 k*=1", "3 G1=0.001 G2=100 k*=1"))],
+    *[(F, rf"the final angles are {LIST * i}(\d+\.\d+),? [\d., and]*rad \(oblate\)", PHYSICAL,
+       (lambda n=n: end(PHYSICAL, f"Fig.1 oblate curve {n}"))) for i, n in enumerate((1, 2, 3))],
+    *[(F, rf"rad \(oblate\) and {LIST * i}(\d+\.\d+),? [\d., and]*rad \(prolate\)", PHYSICAL,
+       (lambda n=n: end(PHYSICAL, f"Fig.1 prolate curve {n}"))) for i, n in enumerate((1, 2, 3))],
+    (F, r"They follow eq. \(24\) to (\d+\.\d+) rad \(oblate", PHYSICAL, lambda: full_model_gap("oblate")),
+    (F, r"rad \(oblate, eps = [\d.]+\) and (\d+\.\d+) rad \(prolate", PHYSICAL, lambda: full_model_gap("prolate")),
+    (F, r"The minimum is at `omega_0/omega_0,res = (\d+\.\d+)`", RESONANCE, lambda: resonance_minimum(0)),
+    (F, r"`omega_0/omega_0,res = [\d.]+` \((\d+\.\d+) s\)", RESONANCE, lambda: resonance_minimum(1)),
+    (F, r"At 0.7 and 1.5 the decay takes (\d+) s", RESONANCE, lambda: dict(curve(RESONANCE, "linear"))[0.7]),
+    (F, r"At 0.7 and 1.5 the decay takes \d+ s and (\d+) s", RESONANCE,
+     lambda: dict(curve(RESONANCE, "linear"))[1.5]),
+    *[(F, rf"of linear theory: {LIST * i}(\d+\.\d+),? [\d., and]*s at 0.75, 0.9", RESONANCE,
+       (lambda r=r: full_point(r))) for i, r in enumerate((0.75, 0.9, 1.0, 1.1, 1.3))],
+    (F, r"the two agree to (\d+\.\d+) % of theta0", AVERAGED, lambda: 100 * averaged_gap()),
+    (F, r"the averaged rate is (\d+\.\d+) 1/s", AVERAGED, lambda: decay_rate("eps=1 averaged")),
+    (F, r"against the full model's (\d+\.\d+) 1/s", AVERAGED, lambda: decay_rate("eps=1 full")),
+    (F, r"Over (\d+) s the nutation angle", FLAT, lambda: curve(FLAT, "theta_rad")[-1][0]),
+    (F, r"the nutation angle rises from (\d+\.\d+)", FLAT, lambda: curve(FLAT, "theta_rad")[0][1]),
+    (F, r"the nutation angle rises from [\d.]+ to (\d+\.\d+) rad", FLAT, lambda: end(FLAT, "theta_rad")),
+    (F, r"The energy falls from (\d+\.\d+)", FLAT, lambda: curve(FLAT, "E_J")[0][1]),
+    (F, r"The energy falls from [\d.]+ to (\d+\.\d+) J", FLAT, lambda: end(FLAT, "E_J")),
     ("docs/sweeps.md", r"The fastest decay, (\d+\.\d+) s, is", SWEEP, lambda: best_decay("decay_time")),
     ("docs/sweeps.md", r"is at k = (\d+) N m/rad", SWEEP, lambda: best_decay("pendulum.k")),
     ("docs/sweeps.md", r"at a finite damping, c_d = (\d+\.\d+) N m s/rad", SWEEP, lambda: best_decay("pendulum.c_d")),
