@@ -22,7 +22,7 @@ from pathlib import Path
 from playwright.sync_api import sync_playwright
 
 from app.server import App, warm_up
-from bench.explorer_startup import machine
+from bench.explorer_startup import machine, save_chart
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "bench" / "results" / "explorer_rates.csv"
@@ -133,10 +133,7 @@ def chart(out: Path = OUT, img: Path = IMG) -> None:
     else:  # a CSV measured before the script recorded the machine: say so rather than guess it
         title += "\nmachine and load not recorded by that run"
     fig.suptitle(title, fontsize=9)
-    img.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(img, dpi=110)
-    plt.close(fig)
-    print(f"wrote {img}")
+    save_chart(fig, img)
 
 
 def parse(argv: list[str]):

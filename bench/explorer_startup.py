@@ -254,6 +254,13 @@ def chart(rows: list[dict], summary: dict, img: Path) -> None:
     ax.set_title(f"First start: cold/warm = {summary['ratio']:.2f} ({rows[0]['cpu']}, {rows[0]['cores']} cores, "
                  f"load average {min(loads):.0f}-{max(loads):.0f})", fontsize=10)
     ax.legend(loc="lower right", fontsize=8)
+    save_chart(fig, img)
+
+
+def save_chart(fig, img: Path) -> None:
+    """Write an explorer benchmark's chart (both explorer benchmarks draw theirs the same way) and close it."""
+    import matplotlib.pyplot as plt
+
     img.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(img, dpi=110)
     plt.close(fig)

@@ -26,21 +26,13 @@ import numpy as np
 
 from .carry import CannotCarry, Carried, carry_state
 from .models.base import Model, get_model
-from .rotation import normalize, rotate
+from .rotation import normalize, qmul, rotate
 from .scenario import Scenario
 from .trajectory import Trajectory
 
 # closed forms restarted from a running state; the spherical pendulum's averaged solution restarts with its bob
 # at rest (physics/pendulum_restart.py)
 RESTARTABLE = ("moving_mass/closed", "spherical_pendulum/averaged")
-
-
-def qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Quaternion product a (x) b, scalar first, broadcasting over leading axes."""
-    a0, a1, a2, a3 = np.moveaxis(np.asarray(a, dtype=float), -1, 0)
-    b0, b1, b2, b3 = np.moveaxis(np.asarray(b, dtype=float), -1, 0)
-    return np.stack([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3, a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
-                     a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1, a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
 
 
 @dataclass(frozen=True)
@@ -121,4 +113,4 @@ def carry_to_closed(old_model: Model, old_p: np.ndarray, old_sc: Scenario, y_old
     return origin_at(new_sc, carried.K_after, carried.y[3:7], t0), carried
 
 
-__all__ = ["RESTARTABLE", "ClosedOrigin", "carry_to_closed", "origin_at", "qmul"]
+__all__ = ["RESTARTABLE", "ClosedOrigin", "carry_to_closed", "origin_at"]

@@ -18,6 +18,7 @@ from .closed004 import (
     momentum_power_integral,
     nutation_angle_13,
 )
+from .rotation import qmul
 
 
 def closed_form_state(t, coeffs) -> dict:
@@ -102,8 +103,8 @@ def closed_form_state(t, coeffs) -> dict:
     st, ct = np.sin(theta), np.cos(theta)
     omega = np.column_stack([G * st * np.cos(sigma) / A, -G * st * np.sin(sigma) / A, G * ct / C])
     E = 0.5 * (A * (omega[:, 0] ** 2 + omega[:, 1] ** 2) + C * omega[:, 2] ** 2)
-    frame = _conj(_qmul(_qx(np.array(th0)), _qz(np.array(math.pi / 2))))  # G frame -> inertial frame
-    quat = _qmul(frame, _qmul(_qz(precession), _qmul(_qx(theta), _qz(math.pi / 2 + sigma))))
+    frame = _conj(qmul(_qx(np.array(th0)), _qz(np.array(math.pi / 2))))  # G frame -> inertial frame
+    quat = qmul(frame, qmul(_qz(precession), qmul(_qx(theta), _qz(math.pi / 2 + sigma))))
     quat /= np.linalg.norm(quat, axis=-1, keepdims=True)
     return {"t": t, "theta": theta, "G": G, "omega": omega, "quat": quat, "E": E, "t_stop": t_stop}
 
@@ -124,11 +125,3 @@ def _conj(q):
     return q * np.array([1.0, -1.0, -1.0, -1.0])
 
 
-def _qmul(p, q):
-    """Hamilton product, scalar first, broadcasting over leading axes."""
-    pw, px, py, pz = np.moveaxis(np.asarray(p, float), -1, 0)
-    qw, qx, qy, qz = np.moveaxis(np.asarray(q, float), -1, 0)
-    return np.stack([pw * qw - px * qx - py * qy - pz * qz,
-                     pw * qx + px * qw + py * qz - pz * qy,
-                     pw * qy - px * qz + py * qw + pz * qx,
-                     pw * qz + px * qy - py * qx + pz * qw], -1)

@@ -117,9 +117,26 @@ def control_id(page, label: str) -> str:
     return lab.get_attribute("for")
 
 
-def set_slider(page, label: str, value: float) -> None:
-    box = page.locator(f'[id="{control_id(page, label)}"]').locator("xpath=..").locator(
+def number_box(page, label: str):
+    """The number box beside the slider labelled ``label``."""
+    return page.locator(f'[id="{control_id(page, label)}"]').locator("xpath=..").locator(
         "input.mantine-NumberInput-input")
+
+
+def open_page(browser, url: str, viewport: dict | None = None, init_script: str | None = None):
+    """A page on the explorer at ``viewport`` (default 1400x900), once its first readouts show."""
+    pg = browser.new_page(viewport=viewport or {"width": 1400, "height": 900})
+    pg.set_default_timeout(UI_TIMEOUT)
+    if init_script:
+        pg.add_init_script(init_script)
+    pg.goto(url)
+    pg.wait_for_selector("canvas")
+    wait_until(pg, lambda: "fidelity = " in readouts(pg), "the session's first readouts")
+    return pg
+
+
+def set_slider(page, label: str, value: float) -> None:
+    box = number_box(page, label)
     box.fill(f"{value:g}")
     box.press("Enter")
 

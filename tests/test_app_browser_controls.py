@@ -16,6 +16,7 @@ from test_app_browser import (
     browser,  # noqa: F401 (a fixture)
     choose,
     control_id,
+    number_box,
     read,
     readouts,
     set_slider,
@@ -45,11 +46,6 @@ def status(page) -> str:
 
 def t_of(page) -> float:
     return float(read(page, "t").split()[0])
-
-
-def number_box(page, label: str):
-    return page.locator(f'[id="{control_id(page, label)}"]').locator("xpath=..").locator(
-        "input.mantine-NumberInput-input")
 
 
 def open_folder(page, title: str, label: str) -> None:

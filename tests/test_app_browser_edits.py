@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from test_app_browser import UI_TIMEOUT, browser, choose, read, readouts, set_slider, url, wait_until
+from test_app_browser import browser, choose, open_page, read, readouts, set_slider, url, wait_until
 
 pytestmark = pytest.mark.browser
 __all__ = ["browser", "url"]  # module fixtures of tests/test_app_browser.py, started here for this module
@@ -20,11 +20,7 @@ LABEL = "E changed by the edit"
 
 @pytest.fixture(scope="module")
 def page(browser, url):
-    pg = browser.new_page(viewport={"width": 1400, "height": 900})
-    pg.set_default_timeout(UI_TIMEOUT)
-    pg.goto(url)
-    pg.wait_for_selector("canvas")
-    wait_until(pg, lambda: read(pg, "fidelity"), "the session's first readouts")
+    pg = open_page(browser, url)
     yield pg
     pg.close()
 

@@ -21,6 +21,7 @@ from test_app_browser import (  # noqa: F401  (url and browser are fixtures)
     browser,
     choose,
     click,
+    open_page,
     read,
     readouts,
     url,
@@ -63,12 +64,7 @@ READOUT_OF = {"nutation angle theta": "theta", "angular momentum |K|": "|K|", "e
 
 @pytest.fixture(scope="module")
 def page(browser, url):  # noqa: F811
-    pg = browser.new_page(viewport={"width": 1400, "height": 900})
-    pg.set_default_timeout(UI_TIMEOUT)
-    pg.add_init_script(TICKS_HOOK)
-    pg.goto(url)
-    pg.wait_for_selector("canvas")
-    wait_until(pg, lambda: read(pg, "fidelity"), "the session's first readouts")
+    pg = open_page(browser, url, init_script=TICKS_HOOK)
     yield pg
     pg.close()
 

@@ -8,117 +8,35 @@ Keys are typed one by one, as a user types them (viser's box sends every keystro
 
 from __future__ import annotations
 
-import os
-import queue
 import re
-import shutil
-import subprocess
-import sys
-import threading
-import time
 from pathlib import Path
 
 import pytest
+from test_app_browser import (  # noqa: F401 (browser and url are fixtures)
+    ROOT,
+    UI_TIMEOUT,
+    browser,
+    number_box,
+    open_page,
+    read,
+    readouts,
+    url,
+    wait_until,
+)
 
 pytestmark = pytest.mark.browser
-ROOT = Path(__file__).resolve().parents[1]
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
-START_TIMEOUT = 120.0  # s: a cold numba cache compiles the kernels first
-UI_TIMEOUT = 30_000  # ms
 VIEWPORT = {"width": 1400, "height": 900}
 NEAR_PX = 40  # the note starts at most this far below its slider's number box (one line of the panel)
 K_DIGITS = 1e-5  # relative: the readout prints |K| to 6 significant digits
-
-sync_api = pytest.importorskip("playwright.sync_api")
-if not os.path.exists(CHROMIUM):
-    pytest.skip("Debian's chromium is not installed (apt-get install -y chromium)", allow_module_level=True)
-
-
-@pytest.fixture(scope="module")
-def url():
-    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    lines: queue.Queue = queue.Queue()
-    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
-    deadline = time.monotonic() + START_TIMEOUT
-    found = None
-    log = []
-    while found is None and time.monotonic() < deadline and proc.poll() is None:
-        try:
-            line = lines.get(timeout=1.0)
-        except queue.Empty:
-            continue
-        log.append(line)
-        m = re.search(r"ready in .*: (http://\S+)", line)
-        found = m.group(1) if m else None
-    if found is None:
-        proc.kill()
-        pytest.fail("the explorer did not start:\n" + "".join(log))
-    yield found
-    proc.terminate()
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
-        yield b
-        b.close()
-
-
-@pytest.fixture(scope="module")
-def page(browser, url):
-    pg = browser.new_page(viewport=VIEWPORT)
-    pg.set_default_timeout(UI_TIMEOUT)
-    pg.goto(url)
-    pg.wait_for_selector("canvas")
-    wait_until(pg, lambda: "fidelity = " in readouts(pg), "the session's first readouts")
-    yield pg
-    pg.close()
-
-
-READOUTS_JS = """() => {
-    for (const p of document.querySelectorAll('p')) if (p.innerText.includes('fidelity = ')) return p.innerText;
-    return '';
-}"""
 # the element really seen at the middle of a box: clipped by the panel's scrolling or covered, it is another
 SEEN_JS = """([x, y]) => { const e = document.elementFromPoint(x, y); return e ? e.innerText || '' : ''; }"""
 
 
-def readouts(page) -> str:
-    return page.evaluate(READOUTS_JS)
-
-
-def read(page, key: str) -> str:
-    m = re.search(rf"(?m)^{re.escape(key)} = (.*)$", readouts(page))
-    assert m, readouts(page)
-    return m.group(1).strip()
-
-
-def wait_until(page, predicate, what: str, timeout_ms: int = UI_TIMEOUT):
-    waited = 0
-    while waited < timeout_ms:
-        try:
-            value = predicate()
-        except AssertionError:
-            value = None
-        if value:
-            return value
-        page.wait_for_timeout(250)
-        waited += 250
-    pytest.fail(f"timed out waiting for {what}")
-
-
-def number_box(page, label: str):
-    lab = page.locator("label").filter(has_text=re.compile(rf"^{re.escape(label)}$")).first
-    return page.locator(f'[id="{lab.get_attribute("for")}"]').locator("xpath=..").locator(
-        "input.mantine-NumberInput-input")
+@pytest.fixture(scope="module")
+def page(browser, url):  # noqa: F811
+    pg = open_page(browser, url, VIEWPORT)
+    yield pg
+    pg.close()
 
 
 def type_into(page, label: str, text: str):
@@ -213,7 +131,7 @@ def status_line(page) -> str:
     return page.get_by_text(re.compile(r"Quasirigid explorer ·")).first.inner_text()
 
 
-def test_a_fault_offers_undo_and_reset_beside_the_change_and_undo_brings_the_run_back(browser, url, tmp_path):
+def test_a_fault_offers_undo_and_reset_beside_the_change_and_undo_brings_the_run_back(browser, url, tmp_path):  # noqa: F811
     """Quadratic friction lam_q = 20000 with a faster spin G0 = 5 (a restart) is too stiff for the explicit
     integrator: the run faults at once. A fresh tab: the default scene."""
     pg = browser.new_page(viewport=VIEWPORT)

@@ -21,6 +21,7 @@ from test_app_browser import (
     browser,  # noqa: F401 (a fixture)
     choose,
     control_id,
+    number_box,
     read,
     readouts,
     sync_api,
@@ -76,11 +77,6 @@ def page(browser, app):  # noqa: F811
 
 def legend(page) -> str:
     return page.evaluate(LEGEND_JS)
-
-
-def number_box(page, label: str):
-    return page.locator(f'[id="{control_id(page, label)}"]').locator("xpath=..").locator(
-        "input.mantine-NumberInput-input")
 
 
 def set_warp(page, log10: float) -> None:

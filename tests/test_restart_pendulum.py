@@ -10,9 +10,8 @@ import physics
 from app.edit_report import LABEL
 from app.presets import load_preset
 from app.state import FRAME_HZ, Engine
-from physics.closed_restart import qmul
 from physics.live import LiveRun
-from physics.rotation import rotate
+from physics.rotation import qmul, rotate
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
 
