@@ -65,7 +65,10 @@ def badge_parts(d: dict, conds: list) -> tuple[str, str]:
     bound = d.get("auto_error_bound")
     shown_bound = isinstance(bound, float) and bound > 0
     lines.append(f"requested accuracy: {d.get('auto_accuracy', 'not set')}"
-                 + (f"; error bound of the choice {bound:.2g} rad" if shown_bound else ""))
+                 # not called a bound: checked against the full model it can be several times low (near-
+                 # spherical bodies, strong coupling), which a calibrated estimate is still to fix
+                 + (f"; rough error estimate of the choice {bound:.2g} rad (can be several times low)"
+                    if shown_bound else ""))
     why = reason_words(d["auto_reason"], conds)
     shown = head + "  \n" + "  \n".join(lines) + (f"  \n_{why}_" if why else "")
     details = [f"auto's reason: {d['auto_reason']}"]
