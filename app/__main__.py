@@ -12,7 +12,9 @@ LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
 def parse(argv: list[str] | None = None) -> argparse.Namespace:
-    ap = argparse.ArgumentParser(prog="python -m app", description="Serve the Quasirigid explorer in the browser.")
+    ap = argparse.ArgumentParser(prog="python -m app", description="Serve the Quasirigid explorer in the browser.",
+                                 epilog="python -m app record [SCENARIO.toml] --seconds N --out demo.html writes a "
+                                 "replay that any browser plays from the file (python -m app record --help)")
     ap.add_argument("--host", default="127.0.0.1",
                     help="interface to bind (default 127.0.0.1; anything else exposes the explorer to the network)")
     ap.add_argument("--port", type=int, default=8080, help="port (default 8080; 0 = any free port)")
@@ -26,6 +28,11 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["record"]:  # `python -m app record ...`: write a replay file instead of serving (app.record_cli)
+        from .record_cli import main as record_main
+
+        return record_main(argv[1:])
     args = parse(argv)
     start = time.perf_counter()
     if not args.host.strip():
@@ -40,6 +47,9 @@ def main(argv: list[str] | None = None) -> int:
     from .guard import configure
 
     configure(args.host, tuple(args.allow_origin))  # same-origin browsers and this host's name only
+    from .share_link import install as share_links
+
+    share_links()  # the page hands its address and a link's scene to the tab (app.share_link)
     server = viser.ViserServer(host=args.host, port=args.port, label="Quasirigid")
     shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
     url = f"http://{shown}:{server.get_port()}"

@@ -11,6 +11,7 @@ import physics
 from . import controls, edits, presets
 from .buffers import RECENT, VIEWS, WHOLE_RUN
 from .clock import FRAME_HZ
+from .compare import set_compare, undo_compare
 
 
 class ActionsMixin:
@@ -36,6 +37,7 @@ class ActionsMixin:
             self.trail.clear()
             self.polhode.clear()
             self._record(self.run.last)  # the state restored, at t
+        undo_compare(self, snap)  # the second run (compare mode) goes back to the same change
         self.edit_dE, self.edit_note = None, ""
         self.error = ""
         self.shape = self._shape(self.scenario)
@@ -140,7 +142,7 @@ class ActionsMixin:
         self.plots_changed = True
 
     def _tune(self, _value) -> None:
-        self._apply_values({"pendulum.k": "resonant"})
+        self._apply_values({controls.TUNE_KEY: "resonant"})
 
     def _bob(self, value) -> None:
         n = len(self.scenario.plane_pendulums)
@@ -152,6 +154,9 @@ class ActionsMixin:
     def _polhode(self, value) -> None:
         self.show_polhode = bool(value)
         self.polhode.clear()
+
+    def _sphere(self, value) -> None:
+        self.show_sphere = bool(value)  # K's path is kept while hidden: shown again, it has the whole run
 
     def _mesh(self, value) -> None:
         self._use_mesh(value)
@@ -205,8 +210,10 @@ ACTIONS = {
     "restart_on_change": ActionsMixin._restart_on_change, "view": ActionsMixin._view,
     "exaggeration": ActionsMixin._exaggeration, "overlay": ActionsMixin._overlay, "plots": ActionsMixin._plots,
     "tune": ActionsMixin._tune, "bob": ActionsMixin._bob, "polhode": ActionsMixin._polhode,
+    "sphere": ActionsMixin._sphere,
     "mesh": ActionsMixin._mesh, "upload": ActionsMixin._upload, "scenario": ActionsMixin._scenario,
     "undo": ActionsMixin._undo, "reload": ActionsMixin._reload,
+    "compare": set_compare,  # app.compare: a second run with one difference, or off
 }
 
 

@@ -8,15 +8,15 @@ ScenarioError, naming the key and the allowed range, that a scenario file would.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import physics
-from physics import initial_G
 
 
 @dataclass(frozen=True)
-class Param:
-    """One slider: ``key`` is the scenario's dotted TOML key; ``label`` what the panel shows."""
+class Slider:
+    """One slider: a scenario key's metadata from physics (``physics.Param``) and the systems it applies to.
+    ``hint`` is the Param's meaning; ``base``: the body or the start, which every system has."""
 
     key: str
     label: str
@@ -25,169 +25,168 @@ class Param:
     lo: float
     hi: float
     step: float
-    systems: tuple[str, ...] = ("moving_mass",)
+    systems: tuple[str, ...]
+    folder: str
+    restarts: bool = False
+    base: bool = False
 
     @property
     def text(self) -> str:
         return f"{self.label} ({self.unit})" if self.unit else self.label
 
 
-MM, SP, PL = "moving_mass", "spherical_pendulum", "plane_pendulums"
-ALL = (MM, SP, PL)
-PENDULA = (SP, PL)
+@dataclass(frozen=True)
+class Registry:
+    """What the panel offers, read from physics' registered systems (``physics.SYSTEMS``): sliders, the
+    System dropdown (label -> system name), the fidelities and the slider folders in the panel's order."""
 
-PARAMS: tuple[Param, ...] = (
-    # the six of the braking paper (MODELS.md A.1): the moving mass, the medium and the brake
-    Param("mass.m", "m", "kg", "mass of the small body moving inside on a spring-damper; 0 = none; must stay below "
-          "the total mass M", 0.0, 1.0, 0.001),
-    Param("mass.rho", "rho", "m", "distance from the centre of mass to the moving mass's rest point, on the "
-          "symmetry axis", 0.0, 3.0, 0.01),
-    Param("mass.Omega", "Omega", "rad/s", "natural frequency of the mass on its spring (Omega^2 = stiffness / m): "
-          "a stiffer spring, a higher Omega", 0.5, 60.0, 0.1),
-    Param("mass.chi", "chi", "1/s", "damping of the mass's spring: damper force per unit mass and speed "
-          "(chi = delta/m); it turns the wobble into heat", 0.0, 60.0, 0.1),
-    Param("medium.lambda", "lambda", "1/s", "resistance of the surrounding medium: a torque -lambda J* w against "
-          "the rotation; 0 = no medium", 0.0, 0.01, 1e-5),
-    Param("control.b", "b", "N m", "strength of the braking torque, always against K; 0 = no braking; the readout T "
-          "shows when it stops the spin", 0.0, 0.02, 1e-5),
-    # the body
-    Param("body.A", "A", "kg m^2", "equatorial principal moment of the frozen system (carrier + parts at rest)", 0.1,
-          5.0, 0.01, ALL),
-    Param("body.B", "B", "kg m^2", "second equatorial moment; B = A is a symmetric body", 0.1, 5.0, 0.01, ALL),
-    Param("body.C", "C", "kg m^2", "axial moment; C > A oblate (settles to spin), C < A prolate (flat spin)", 0.1,
-          5.0, 0.01, ALL),
-    Param("body.M", "M", "kg", "total mass of the system", 0.1, 20.0, 0.1, ALL),
-    Param("mass.lam_q", "lam_q", "1/m", "drag-like friction of the mass, growing with the square of its speed: "
-          "force -m lam_q |u'| u'", 0.0, 20000.0, 10.0),
-    # the cavity
-    Param("cavity.beta", "beta", "kg/m^3", "density of the fluid in the spherical cavity; 0 = no cavity", 0.0,
-          2000.0, 1.0),
-    Param("cavity.nu", "nu", "m^2/s", "kinematic viscosity of the fluid (Stokes flow needs Re = a0^2 w/nu small)",
-          0.1, 100.0, 0.1),
-    Param("cavity.a0", "a0", "m", "radius of the spherical cavity", 0.01, 0.5, 0.005),
-    # the pendulum dampers
-    Param("pendulum.m", "bob m", "kg", "mass of each pendulum bob", 0.001, 0.3, 0.001, PENDULA),
-    Param("pendulum.l", "arm l", "m", "pendulum arm length from pivot to bob", 0.01, 1.0, 0.005, PENDULA),
-    Param("pendulum.h", "pivot h", "m", "height of the spherical pendulum's pivot above O on the spin axis", -1.0,
-          1.0, 0.01, (SP,)),
-    Param("pendulum.k", "spring k", "N m/rad", "torsional spring at the pivot; 'tune to resonance' matches the "
-          "free nutation", 0.0, 2.0, 0.001, PENDULA),
-    Param("pendulum.c_d", "damper c_d", "N m s/rad", "pivot damper", 0.0, 0.2, 0.0005, PENDULA),
-    # the initial state
-    Param("initial.G0", "G0", "kg m^2/s", "initial angular momentum of the body frozen with its parts at rest, "
-          "|J* w0| (the readout |K| adds what the moving parts carry); it defines the start, so changing it "
-          "restarts the run from t = 0", 0.1, 10.0, 0.01, ALL),
-    Param("initial.theta0", "theta0", "rad", "initial nutation angle between K and e3; it defines the start, "
-          "so changing it restarts from t = 0", 0.0, 3.14, 0.01, ALL),
-)
-BY_KEY = {p.key: p for p in PARAMS}
-SIX = ("mass.m", "mass.rho", "mass.Omega", "mass.chi", "medium.lambda", "control.b")
-RESTARTING = ("initial.",)  # keys whose change only means something from t = 0
+    params: tuple[Slider, ...]
+    by_key: dict[str, Slider]
+    system_labels: dict[str, str]
+    fidelities: tuple[str, ...]
+    folders: tuple[tuple[str, tuple[str, ...]], ...]
 
-# Defaults used when a slider switches on a part the scenario did not have.
-CAVITY_DEFAULTS = {"beta": 1000.0, "nu": 20.0, "a0": 0.1}
-MASS_DEFAULTS = {"m": 0.1, "rho": 1.5, "Omega": 8.0, "chi": 8.0}
+
+_CACHE: dict[tuple, Registry] = {}
+TUNE_KEY = "pendulum.k"  # "tune to resonance" sets it to "resonant": shown for a system that has its table
+
+
+def _systems() -> list[physics.System]:
+    """The registered systems, the default one (a bare body runs it) first, then in registration order."""
+    systems = list(physics.SYSTEMS.values())
+    return sorted(systems, key=lambda s: not s.default)
+
+
+def registry() -> Registry:
+    """The panel's lists for the systems registered now (a system registered later, a test's toy, shows too)."""
+    systems = _systems()
+    signature = tuple((s.name, id(s), tuple(s.models)) for s in systems)
+    reg = _CACHE.get(signature)
+    if reg is None:  # built again only when a system or a model is (un)registered; any tab's thread may do it
+        reg = _build(systems)
+        _CACHE.clear()
+        _CACHE[signature] = reg
+    return reg
+
+
+def _build(systems: list[physics.System]) -> Registry:
+    names = tuple(s.name for s in systems)
+    sliders: dict[str, Slider] = {}
+    for p in physics.BASE_PARAMS:
+        sliders[p.key] = Slider(p.key, p.label, p.unit, p.meaning, p.lo, p.hi, p.step, names, p.folder,
+                                p.restarts, base=True)
+    owners: dict[str, list[str]] = {}
+    for s in systems:
+        for p in s.params:
+            owners.setdefault(p.key, []).append(s.name)
+            if p.key not in sliders:  # a key two systems share (the pendulums' bob m): one slider for both
+                sliders[p.key] = Slider(p.key, p.label, p.unit, p.meaning, p.lo, p.hi, p.step, (), p.folder or s.label,
+                                        p.restarts)
+    for key, systems_of in owners.items():
+        sliders[key] = replace(sliders[key], systems=tuple(systems_of))
+    # The default system's first folder opens the panel with the body under it; the start closes it.
+    body, *rest = physics.BASE_FOLDERS
+    own = list(dict.fromkeys(p.folder or s.label for s in systems for p in s.params))
+    order = [*own[:1], body, *own[1:], *rest]
+    folders = tuple((title, tuple(k for k, p in sliders.items() if p.folder == title)) for title in order)
+    params = tuple(sliders[k] for _, keys in folders for k in keys)
+    fidelities = tuple(dict.fromkeys(f for s in systems for f in s.fidelities))  # each starts with "auto"
+    return Registry(params=params, by_key={p.key: p for p in params},
+                    system_labels={s.label: s.name for s in systems}, fidelities=fidelities, folders=folders)
+
+
+def __getattr__(name: str):
+    """PARAMS, BY_KEY, SYSTEM_LABELS, FIDELITIES, FOLDERS and SIX (the first folder's keys: the braking paper's
+    six), read from physics' registry at each use."""
+    reg = registry()
+    values = {"PARAMS": reg.params, "BY_KEY": reg.by_key, "SYSTEM_LABELS": reg.system_labels,
+              "FIDELITIES": reg.fidelities, "FOLDERS": reg.folders, "SIX": reg.folders[0][1]}
+    if name in values:
+        return values[name]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def folders_of(system: str) -> set[str]:
+    """The slider folders shown for a scene of ``system``: the body's, the start's and its own."""
+    return set(physics.BASE_FOLDERS) | {p.folder for p in registry().params if system in p.systems}
+
+
+def owns_table(system: str, key: str) -> bool:
+    """Whether ``key``'s table (``pendulum`` of ``pendulum.k``) is one of ``system``'s own tables."""
+    return key.partition(".")[0] in {t.name for t in physics.get_system(system).tables}
+
+
+def per_item(key: str, system: str | None = None) -> bool:
+    """Whether the slider ``key`` may edit one item of an array table (``pendulum.k#1``: plane pendulum 1): a
+    system with sliders of its table (``system`` only, if given) keeps that table as an array of items."""
+    owners = _table_owners(key)
+    if system is not None:
+        owners &= {system}
+    return any(t.array for name in owners for t in physics.get_system(name).tables)
+
+
+def _table_owners(key: str) -> set[str]:
+    """The systems with sliders of ``key``'s table (``pendulum``: both pendulum systems); none for the body's
+    and the start's or an unknown key."""
+    params = registry().params
+    if not any(p.key == key and not p.base for p in params):
+        return set()
+    table = key.partition(".")[0]
+    return {s for p in params if not p.base and p.key.partition(".")[0] == table for s in p.systems}
+
+
+def item_key(key: str, system: str, item: int | None) -> str:
+    """The key a slider change is applied with: ``key#item`` when it edits one item (a chosen bob)."""
+    return f"{key}#{item}" if item is not None and per_item(key, system) else key
+
+
+def scenario_key(key: str, system: str) -> str:
+    """The scenario key a slider stands for in ``system``: a slider of a table the system does not have (the
+    pendulum sliders of plane pendulums) sets the system's one table (every [[plane_pendulum]])."""
+    tables = physics.get_system(system).tables
+    if system not in _table_owners(key) or owns_table(system, key) or len(tables) != 1:
+        return key
+    return f"{tables[0].name}.{key.partition('.')[2]}"
 
 
 def values_of(sc: physics.Scenario, bob: int | None = None) -> dict[str, float]:
-    """Slider values that describe ``sc`` (0 for an absent part, the part's default otherwise). The
-    pendulum sliders show plane pendulum number ``bob`` (0-based), or the first when None."""
-    v: dict[str, float] = {"body.A": sc.body.A, "body.B": sc.body.B, "body.C": sc.body.C, "body.M": sc.body.M}
-    ms = sc.mass
-    v.update({"mass.m": ms.m if ms else 0.0, "mass.rho": ms.rho if ms else MASS_DEFAULTS["rho"],
-              "mass.Omega": ms.Omega if ms else MASS_DEFAULTS["Omega"], "mass.chi": ms.chi if ms else 0.0,
-              "mass.lam_q": ms.lam_q if ms else 0.0})
-    cav = sc.cavity
-    v.update({"cavity.beta": cav.beta if cav else 0.0, "cavity.nu": cav.nu if cav else CAVITY_DEFAULTS["nu"],
-              "cavity.a0": cav.a0 if cav else CAVITY_DEFAULTS["a0"]})
-    v["medium.lambda"] = sc.medium.lambda_ if sc.medium else 0.0
-    v["control.b"] = sc.control.b if sc.control else 0.0
-    pick = bob if bob is not None and 0 <= bob < len(sc.plane_pendulums) else 0
-    bob = sc.pendulum or (sc.plane_pendulums[pick] if sc.plane_pendulums else None)
-    v.update({"pendulum.m": bob.m if bob else 0.05, "pendulum.l": bob.l if bob else 0.3,
-              "pendulum.h": sc.pendulum.h if sc.pendulum else 0.5,
-              "pendulum.k": _stiffness(sc, bob),
-              "pendulum.c_d": bob.c_d if bob else 0.01})
-    _, G0, theta0 = initial_G(sc)
-    v.update({"initial.G0": G0, "initial.theta0": theta0})
-    return {k: float(x) for k, x in v.items()}
-
-
-def _stiffness(sc: physics.Scenario, bob) -> float:
-    """A bob's spring k; a tuned one ("resonant", "optimal") as physics resolves it."""
-    if bob is None:
-        return 0.0
-    if isinstance(bob.k, str):  # resolved cheaply: this runs on the tab's loop thread after every change
-        ks = physics.resolved_stiffness(sc)
-        i = 0 if sc.pendulum is not None else sc.plane_pendulums.index(bob)
-        return ks[i]
-    return bob.k
+    """Slider values that describe ``sc``: every system's (an absent part's defaults), the scene's own last, then
+    the body and the start. The pendulum sliders show plane pendulum number ``bob`` (0-based), or the first."""
+    own = physics.get_system(sc.system)
+    v: dict[str, float] = {}
+    for system in [s for s in _systems() if s is not own] + [own]:
+        v.update(system.values(sc, bob))
+    v.update(physics.base_values(sc))
+    params = registry().params
+    for p in params:
+        v.setdefault(p.key, p.lo)  # a system that gives no values: its sliders start at their low end
+    return {p.key: float(v[p.key]) for p in params}
 
 
 def apply_changes(base: physics.Scenario, changes: dict[str, float | str]) -> physics.Scenario:
     """``base`` with the slider changes applied, validated by physics (raises ScenarioError).
 
-    A zero ``lambda``, ``b``, ``beta`` or mass ``m`` removes the medium, the control, the cavity or the
-    mass; a positive one adds it. Pendulum values apply to every bob, or with a key ``pendulum.k#i``
-    to plane pendulum i (0-based) only. ``pendulum.k`` may be "resonant". ``initial.G0``/``theta0``
-    replace an ``omega`` given in the file.
+    The body and the start go through ``physics.edit_dict`` (``initial.G0``/``theta0`` replace an ``omega`` given
+    in the file); a part's keys through its system's ``edit`` (a zero ``lambda``, ``b``, ``beta`` or mass ``m``
+    removes the medium, the control, the cavity or the mass; a positive one adds it). Pendulum values apply to
+    every bob, or with a key ``pendulum.k#i`` to plane pendulum i (0-based) only; ``pendulum.k`` may be
+    "resonant". A slider of another system than ``base``'s is kept for later, not applied.
     """
     data = base.to_dict()
-    system = base.system
+    system = physics.get_system(base.system)
+    by_key = registry().by_key
     for full_key, value in changes.items():
         key, _, which = full_key.partition("#")
-        table, _, name = key.partition(".")
-        if key not in BY_KEY or (which and table != "pendulum"):
+        if key not in by_key or (which and not per_item(key)):
             raise physics.ScenarioError(full_key, value, "is not a parameter of the explorer")
-        if system not in BY_KEY[key].systems:
+        p = by_key[key]
+        if system.name not in p.systems:
             continue  # e.g. a mass slider while a pendulum scene runs: kept for later, not applied
-        if table == "body":
-            data["body"][name] = value
-        elif table == "mass":
-            if name == "m" and value == 0:
-                data.pop("mass", None)
-                continue
-            section = data.setdefault("mass", dict(MASS_DEFAULTS))
-            section[name] = value
-        elif table == "medium":
-            if value == 0:
-                data.pop("medium", None)
-            else:
-                data["medium"] = {"lambda": value}
-        elif table == "control":
-            if value == 0:
-                data.pop("control", None)
-            else:
-                data.setdefault("control", {"law": "K"})["b"] = value
-        elif table == "cavity":
-            if name == "beta" and value == 0:
-                data.pop("cavity", None)
-                continue
-            if "cavity" not in data and name != "beta":
-                continue  # nu, a0 of an absent cavity wait until beta switches it on
-            data.setdefault("cavity", dict(CAVITY_DEFAULTS))[name] = value
-        elif table == "pendulum":
-            if system == "spherical_pendulum":
-                data["pendulum"][name] = value
-            else:
-                bobs = data["plane_pendulum"]
-                if which:
-                    if not which.isdigit() or int(which) >= len(bobs):
-                        raise physics.ScenarioError(full_key, value, f"names no bob: this scene has {len(bobs)}, "
-                                                    f"numbered 0 to {len(bobs) - 1}")
-                    bobs = [bobs[int(which)]]
-                for pp in bobs:
-                    pp[name] = value
-        elif table == "initial":
-            ini = data["initial"]
-            if "omega" in ini:
-                _, G0, theta0 = initial_G(base)
-                ini.pop("omega")
-                ini["G0"], ini["theta0"] = G0, theta0
-            ini[name] = value
-    if "mass" in data:  # switching the mass on: complete it from the current slider defaults
-        for k, x in MASS_DEFAULTS.items():
-            data["mass"].setdefault(k, x)
+        if p.base or system.edit is None:
+            table, _, name = key.partition(".")
+            physics.edit_dict(data, f"{table}[{which}].{name}" if which.isdigit() else key, value, base)
+        else:
+            system.edit(data, full_key, value)
     return physics.Scenario.from_dict(data)
 
 
@@ -200,11 +199,12 @@ def merge_changes(changes: dict, pending: dict) -> dict:
 
 
 def restarts(changed: dict) -> bool:
-    """Whether a change only makes sense from t = 0 (initial conditions)."""
-    return any(k.startswith(RESTARTING) for k in changed)
+    """Whether a change only makes sense from t = 0 (the start: physics.Param.restarts)."""
+    by_key = registry().by_key
+    return any(by_key[k.partition("#")[0]].restarts for k in changed if k.partition("#")[0] in by_key)
 
 
-def slider_range(p: Param, value: float) -> tuple[float, float]:
+def slider_range(p: Slider, value: float) -> tuple[float, float]:
     """The slider's range: the spec's, widened to hold a preset's value with room to move."""
     lo, hi = p.lo, p.hi
     if value > hi:
@@ -224,23 +224,15 @@ def fmt(x: float, digits: int = 4) -> str:
 
 # ---- viser widgets ------------------------------------------------------------------------------
 
-SYSTEM_LABELS = {"moving mass": MM, "spherical pendulum": SP, "plane pendulums": PL}
-FIDELITIES = ("auto", "full", "averaged", "closed")
-MASS_FOLDER, FRICTION_FOLDER = "Moving mass, medium, braking", "Friction and cavity"  # moving-mass scenes only
-FOLDERS = ((MASS_FOLDER, SIX), ("Body inertia", ("body.A", "body.B", "body.C", "body.M")),
-           (FRICTION_FOLDER, ("mass.lam_q", "cavity.beta", "cavity.nu", "cavity.a0")),
-           ("Pendulum damper", ("pendulum.m", "pendulum.l", "pendulum.h", "pendulum.k", "pendulum.c_d")),
-           ("Initial state", ("initial.G0", "initial.theta0")))
-
-
 def build_sliders(gui, values: dict[str, float]) -> tuple[dict, dict]:
     """Folders of sliders; returns (key -> slider handle, folder title -> folder handle)."""
     sliders, folders = {}, {}
-    for title, keys in FOLDERS:
-        with gui.add_folder(title, expand_by_default=title == MASS_FOLDER) as folder:
+    reg = registry()
+    for title, keys in reg.folders:
+        with gui.add_folder(title, expand_by_default=title == reg.folders[0][0]) as folder:
             folders[title] = folder
             for key in keys:
-                p = BY_KEY[key]
+                p = reg.by_key[key]
                 lo, hi = slider_range(p, values[key])
                 sliders[key] = gui.add_slider(p.text, min=lo, max=hi, step=p.step,
                                               initial_value=min(max(values[key], lo), hi), hint=p.hint)

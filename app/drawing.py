@@ -8,12 +8,14 @@ from __future__ import annotations
 import numpy as np
 import viser
 
+from .compare_view import CompareView
 from .engine import Engine
 from .labels import label_groups
 from .legend import COLORS, LegendView, parts_of
 from .mass_view import factor_label
 from .panel import _set
 from .scene import box_mesh, cylinder_mesh, trail_segments
+from .sphere_view import SphereView
 
 ARROWS = ("K", "omega", "e3", "torque")  # the arrows' order in the arrows node, and in a merged label
 SCENE_SIZE = 1.5  # scene units the body spans, whatever its size in metres
@@ -43,6 +45,8 @@ class Drawing:
         self.world = sc.add_frame(self.root, show_axes=False)
         self.handles: dict = {}
         self.draw_static()
+        self.sphere = SphereView(sc, self.root, self.engine)  # K in body axes beside the body (app.sphere_view)
+        self.compare = CompareView(sc, self.root, self.engine)  # compare mode's second body (app.compare_view)
 
     def draw_static(self) -> None:
         """The parts that change only with the parameters: body shape, ellipsoid, parts' anchors."""
@@ -116,11 +120,13 @@ class Drawing:
             eng.mark_drawn()
         h = self.handles
         h["body"].wxyz = fr.body_wxyz
+        self.sphere.update(fr, plots_now)
         origin = np.zeros(3)
         k = self.k
         vecs = [k * v for v in (fr.K_vec, fr.omega_vec, fr.axis_vec)]
         vecs.append(k * fr.torque_vec if fr.torque_vec is not None else origin)
         h["arrows"].points = np.array([[origin, v] for v in vecs])
+        self.compare.update(k, SCENE_SIZE, plots_now)
         if plots_now:  # labels and trails change slowly: at the plots' rate, not every frame
             groups = label_groups(dict(zip(ARROWS, vecs, strict=True)), SCENE_SIZE)  # "K, omega, e3" when aligned
             for i, lab in enumerate(h["labels"]):
@@ -131,7 +137,7 @@ class Drawing:
             self.legend.show(parts_of(eng.scenario, view=eng.view, polhode=fr.polhode is not None,
                                       mesh=eng.mesh.name if eng.mesh is not None else None,
                                       exaggeration=eng.exaggeration, mass_moves="ux" in eng.run.last.internal,
-                                      braking=fr.torque_vec is not None))
+                                      braking=fr.torque_vec is not None, sphere=eng.show_sphere))
         if fr.mass_pos is not None and "mass" in h:
             h["mass"].position = tuple(k * fr.mass_pos)
             h["spring"].points = k * np.array([[fr.mass_rest, fr.mass_pos]])

@@ -1,5 +1,5 @@
 """What the readouts say about the last edit: a parameter or fidelity change keeps the angular momentum K
-and the attitude (physics.carry) but may change the energy E, and a class should see that it did."""
+and the attitude (physics.carry_state) but may change the energy E, and a class should see that it did."""
 
 from __future__ import annotations
 

@@ -40,7 +40,7 @@ from . import controls
 TYPING_PAUSE_S = 3.0  # s without a new value from a slider before it is set back
 ECHO_WINDOW_S = 0.3  # s after a slider is set back: a clamp-on-blur sent before it arrived is still dropped
 UNDO_DEPTH = 20  # changes that can be undone one after another
-FAULT = "fault"  # a LiveRun's status when the integration stopped on an error (physics.live, not exported)
+FAULT = "fault"  # a LiveRun's status when the integration stopped on an error (physics/stepping/live.py, not exported)
 
 
 @dataclass(frozen=True)

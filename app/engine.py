@@ -32,11 +32,13 @@ from .buffers import (
     WHOLE_RUN_POINTS,
 )
 from .clock import DEFAULT_WARP, FRAME_HZ, Clock
+from .compare import restart_compare
 from .frame import Frame, FrameMixin
 from .history import DecimatingStore
 from .mass_view import default_exaggeration
 from .output import OutputMixin
 from .scene import E3, Ring, Shape, align, body_shape
+from .sphere import MomentumPath
 from .trail import split_advance, thinned
 from .trail import turn_period as cone_turn_period
 from .workers import BadgeMixin, OverlayMixin
@@ -59,6 +61,8 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.exaggeration = 10.0
         self.bob: int | None = None  # plane pendulum the pendulum sliders edit (0-based); None = every bob
         self.show_polhode = False
+        self.show_sphere = True  # the momentum sphere beside the body (app.sphere_view)
+        self.sphere_path = MomentumPath()  # K's direction in body axes over the run (app.sphere)
         self._init_badge()
         self._init_overlay()
         self.error = ""
@@ -73,6 +77,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.plots_changed = True
         self.plot_span = WHOLE_RUN
         self.mesh = mesh  # app.mesh.BodyMesh drawn instead of the uniform shape, until a preset is loaded
+        self.compare = None  # app.compare.Comparison: a second run with one difference, on the same clock
         name = "from file" if scenario is not None else preset
         if mesh is not None:
             name = f"mesh {mesh.name}"
@@ -83,8 +88,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         """A slider's new value; ``limits``: the slider's (min, max) then (app.edits clamps a value beyond them
         and drops the browser's clamp echo). Pendulum sliders edit the bob chosen with the "bob" action."""
         slider = key
-        if key.startswith("pendulum.") and self.bob is not None and self.scenario.system == "plane_pendulums":
-            key = f"{key}#{self.bob}"
+        key = controls.item_key(key, self.scenario.system, self.bob)  # a plane pendulum's bob chosen: that bob
         with self._lock:
             if not self.guard.received(slider, value, limits):
                 return self.change_seq  # the browser's own clamp of a value just judged: not the user's
@@ -134,6 +138,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.plot = Ring(PLOT_POINTS, 4)
         self.trail = Ring(TRAIL_POINTS, 3)
         self.polhode = Ring(TRAIL_POINTS, 3)
+        self.sphere_path.clear()
         self.plot_all = DecimatingStore(WHOLE_RUN_POINTS, 4)
         self.history = DecimatingStore(HISTORY_ROWS, len(self.run.last.columns))
         self.history_columns = self.run.last.columns
@@ -154,6 +159,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self._drawn = None
         self.edit_dE: float | None = None  # what the last edit did to E (J), shown until the next edit or reset
         self.edit_note = ""  # why the last edit could not keep the state
+        restart_compare(self)  # the second run (compare mode) starts again with the first
 
     def static_signature(self) -> tuple:
         """What the static meshes depend on; the session redraws them when it changes."""
@@ -248,11 +254,13 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
 
     def _note_edit(self, kept: bool) -> None:
         """Remember what the edit just applied did: the change of E when the state was carried (K and the
-        attitude kept, physics.carry), or why it restarted instead (a closed form has no state)."""
+        attitude kept, physics.carry_state), or why it restarted instead (a closed form has no state)."""
         self.edit_dE = self.run.energy_change if kept else None
         self.edit_note = self.run.edit_note
         if kept:  # the new state's row, at the same t: the plots show E's step, and the readouts refresh
             self._record(self.run.last)
+            if self.compare is not None:
+                self.compare.follow(self)  # the same edit, the difference kept (app.compare)
 
     # ---- the clock's figures, as attributes (scripts and tests set eng.warp) --------------------
     @property
@@ -299,11 +307,15 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         """Integrate dt simulated seconds. With a ``floor`` (a frame's wall seconds: playing), only as many
         as TICK_BUDGET_S of wall time affords at the last measured rate (PROBE times fewer after a change,
         whose cost is not known yet), but never less than real time."""
-        if self.run.ended or dt <= 0:
+        if dt <= 0 or (self.run.ended and self.compare is None):
             return
         if floor is not None:
             dt = self.clock.allowance(dt, floor)
         t0, start = self.run.t, time.perf_counter()
+        if self.compare is not None:  # the same simulated dt, timed with this run's: the budget counts both
+            self.compare.advance(dt)
+            if self.run.ended:  # this run braked or faulted: the second goes on alone
+                return
         # beyond a few samples per turn of the cone, the frame's last turns are sampled densely for the trail
         head, tail, tail_samples = split_advance(dt, SAMPLES_PER_FRAME, self.turn_period())
         dense = None
@@ -333,6 +345,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
     def _extend_trail(self, tr: physics.Trajectory) -> None:
         for q in tr.quat:
             self.trail.extend(self._trail_point(q))
+        self.sphere_path.extend(tr.quat, self.momentum())  # the same samples: a path that joins up at any warp
 
     def _record(self, tr: physics.Trajectory, trail_too: bool = True) -> None:
         rows = np.column_stack([tr.t, tr.theta, tr.K, tr.E])

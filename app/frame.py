@@ -10,8 +10,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from physics import qmul, rotate
+
 from .mass_view import drawn_displacement
-from .scene import E3, ellipsoid_axes, mass_points, plane_bob, qmul, rotate, spherical_bob
+from .scene import E3, ellipsoid_axes, mass_points, plane_bob, spherical_bob
 
 
 @dataclass

@@ -40,12 +40,14 @@ class SceneParts:
     spherical: bool = False
     braking: bool = False
     polhode: bool = False
+    sphere: bool = False  # the momentum sphere beside the body (app.sphere_view)
     view: str = "inertial"
     mesh: str | None = None
 
 
 def parts_of(scenario, *, view: str = "inertial", polhode: bool = False, mesh: str | None = None,
-             exaggeration: float = 1.0, mass_moves: bool = True, braking: bool | None = None) -> SceneParts:
+             exaggeration: float = 1.0, mass_moves: bool = True, braking: bool | None = None,
+             sphere: bool = False) -> SceneParts:
     """The parts a scenario puts in the scene (physics.Scenario: mass, cavity, pendulums, braking b).
     ``braking``: whether the torque arrow is drawn now (it goes when the body has stopped); default b > 0."""
     if braking is None:
@@ -55,7 +57,7 @@ def parts_of(scenario, *, view: str = "inertial", polhode: bool = False, mesh: s
                       cavity=scenario.cavity is not None,
                       bobs=len(scenario.plane_pendulums) + (scenario.pendulum is not None),
                       spherical=scenario.pendulum is not None, braking=bool(braking),
-                      polhode=bool(polhode), view=view, mesh=mesh)
+                      polhode=bool(polhode), sphere=bool(sphere), view=view, mesh=mesh)
 
 
 def entries(p: SceneParts) -> list[Entry]:
@@ -92,6 +94,10 @@ def entries(p: SceneParts) -> list[Entry]:
                      if inertial else "trail of K's direction in the body, last turns"))
     if p.polhode:
         out.append(Entry("polhode", "trail", (COLORS["polhode"],), "polhode: omega's tip on the ellipsoid"))
+    if p.sphere:  # its colours: app.sphere_view (not imported here: it imports this module)
+        out.append(Entry("sphere", "trail", (COLORS["K"],), "sphere, lower left: K in body axes, its path"))
+        out.append(Entry("sphere_curves", "line", ((40, 110, 200), (235, 150, 40), (215, 30, 30)),
+                         "on it: free-body energy curves about the largest / smallest axis; separatrix"))
     return out
 
 

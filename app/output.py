@@ -8,10 +8,11 @@ import io
 
 import numpy as np
 
+from physics import qmul
+
 from . import words
 from .buffers import HISTORY_ROWS, RECENT, SAMPLES_PER_FRAME
 from .edit_report import edit_readouts
-from .scene import qmul
 
 
 class OutputMixin:

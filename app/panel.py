@@ -11,10 +11,16 @@ import viser
 import physics
 
 from . import controls, edits, plots, presets, words
+from .compare import readout_md as compare_readout_md
+from .compare_panel import ComparePanel
+from .compare_plots import ComparePlots
 from .control_notes import NotePlace
+from .energy_plot import EnergyChart
 from .engine import Engine
+from .export import ReplayButton
 from .mesh import INERTIA_SHAPE, asset_names
 from .playbar import Playbar
+from .share_panel import SharePanel
 
 EDITED = " (edited)"  # the preset dropdown's name for a preset changed since it was loaded
 
@@ -33,11 +39,15 @@ class Panel:
         self.status_md = gui.add_markdown("**Quasirigid explorer**")
         self.playbar = Playbar(gui, eng)  # right under the status line: reached without scrolling
         self.readout_md = gui.add_markdown("")
+        self.compare_md = gui.add_markdown("")  # compare mode: both runs' theta, |K| and E (app.compare)
         self.error_md = gui.add_markdown("")
         with gui.add_folder("Details", expand_by_default=False):  # the technical side, one click away
             self.details_md = gui.add_markdown("")
         with gui.add_folder("Plots"):
             self.plots = plots.build_plots(gui, eng.plot_data())
+            self.compare_plots = ComparePlots(gui, eng.plot_data())  # both runs overlaid, in compare mode
+            self.energy = EnergyChart(gui, eng.plot_data(), (eng.scenario.body.A, eng.scenario.body.B,
+                                                             eng.scenario.body.C), visible=eng.show_sphere)
         with gui.add_folder("Playback"):
             self.warp = gui.add_slider("time warp (log10 x)", min=-1.0, max=4.0, step=0.05,
                                        initial_value=float(np.log10(eng.warp)),
@@ -76,15 +86,22 @@ class Panel:
                                        "starts with a factor that keeps it within the body; shown beside the mass)")
             self.polhode = gui.add_checkbox("polhode", False, hint="the tip of omega on the inertia ellipsoid, in "
                                             "the body (Poinsot): closed loops when nothing dissipates")
+            self.sphere = gui.add_checkbox("momentum sphere", eng.show_sphere,
+                                           hint="beside the body: K's direction in body axes on the sphere |K| = "
+                                           "const, the polhodes (blue about the axis of largest moment), the "
+                                           "separatrix (red) and K's path; with a chart of E and the pure spins")
             self.body_mesh = gui.add_dropdown("body drawn as", [INERTIA_SHAPE, *asset_names()],
                                               initial_value=INERTIA_SHAPE,
                                               hint="a mesh from assets/meshes: its inertia ratios replace A, B, C "
                                               "(scaled to keep A + B + C); restarts the run")
+        self.compare = ComparePanel(gui, eng)  # the Compare folder: a second run with one difference
         with gui.add_folder("File", expand_by_default=False):
             self.toml_btn = gui.add_button("Download scenario (TOML)")
             self.csv_btn = gui.add_button("Download trajectory (CSV)")
             self.upload = gui.add_upload_button("Load scenario (TOML)", mime_type=".toml",
                                                 hint="a scenario file, as `python -m physics` reads (64 kB at most)")
+            self.replay = ReplayButton(gui, eng, self.client)  # the scene as an offline HTML replay (app.export)
+        self.share = SharePanel(gui, eng, self.client)  # share code, link, last scene kept (app.share_panel)
         self._lazy_panel("Speed vs accuracy", "speed_panel", "SpeedPanel",
                          lambda sc: eng.request("scenario", (sc, f"{eng.preset} (recommended method)")))
         self._lazy_panel("Sweep", "sweep_panel", "SweepPanel",
@@ -124,6 +141,7 @@ class Panel:
         on(self.view, "view")
         on(self.exag, "exaggeration")
         on(self.polhode, "polhode")
+        on(self.sphere, "sphere")
         on(self.body_mesh, "mesh")
         on(self.bob, "bob", lambda v: None if v == "all" else int(v) - 1)
         for key, slider in self.sliders.items():
@@ -179,10 +197,10 @@ class Panel:
             _set(slider, "max", hi)
             _set(slider, "value", min(max(eng.values[key], lo), hi))
             _set(slider, "disabled", system not in p.systems)
-        _set(self.folders["Pendulum damper"], "visible", system != "moving_mass")
-        for title in (controls.MASS_FOLDER, controls.FRICTION_FOLDER):
-            _set(self.folders[title], "visible", system == "moving_mass")
-        _set(self.tune_btn, "visible", system == "spherical_pendulum")
+        shown = controls.folders_of(system)  # the body's, the start's and the system's own
+        for title, folder in self.folders.items():
+            _set(folder, "visible", title in shown)
+        _set(self.tune_btn, "visible", controls.owns_table(system, controls.TUNE_KEY))
         n = len(eng.scenario.plane_pendulums)
         _set(self.bob, "visible", n > 0)
         if n > 0:
@@ -224,13 +242,18 @@ class Panel:
             for panel in self.panels.values():  # results of the earlier scene are marked stale
                 if hasattr(panel, "scene_changed"):
                     panel.scene_changed()
+        if plots_now:  # before the flag below is cleared: the sphere's chart reads it too
+            self.energy.update(eng, changed=eng.plots_changed)
         if plots_now and eng.plots_changed:
             eng.plots_changed = False
-            plots.update_plots(self.plots, eng.plot_data(), eng.has_overlay, eng.overlay_title())
+            if not self.compare_plots.update(eng, self.plots):  # compare mode draws both runs instead
+                plots.update_plots(self.plots, eng.plot_data(), eng.has_overlay, eng.overlay_title())
             self.readout_md.content = _readout_md(eng)
+            _set(self.compare_md, "content", compare_readout_md(eng))
             _set(self.details_md, "content", _details_md(eng))
         if plots_now:
             self._sync_preset()  # "(edited)" after a slider change, which does not resync the panel
+            self.compare.sync()  # "off" when a new scene could not take the difference
         _set(self.badge_md, "content", eng.badge())  # cached: computed once per scenario, off this thread
         for key, value in eng.guard.take_revert().items():  # a rejected value's slider shows the last good one
             _set(self.sliders[key], "value", value)
@@ -248,7 +271,8 @@ class Panel:
             warp += f" (reaching {reached:.3g}x: as fast as this machine integrates)"
         build = physics.kernel_status()
         prep = f" · preparing the fast integrator: {build.elapsed:.0f} s" if build.state == "pending" else ""
-        _set(self.status_md, "content", f"**Quasirigid explorer** · {state} · {warp}{prep}")
+        self.share.tick()  # the browser keeps the last scene (throttled)
+        _set(self.status_md, "content", f"**Quasirigid explorer** · {state} · {warp}{prep}{self.share.status()}")
 
 
 def _set(handle, name: str, value) -> None:
@@ -257,7 +281,7 @@ def _set(handle, name: str, value) -> None:
 
 
 def _system_label(system: str) -> str:
-    return next(k for k, v in controls.SYSTEM_LABELS.items() if v == system)
+    return next(label for label, name in controls.SYSTEM_LABELS.items() if name == system)
 
 
 def _readout_md(eng: Engine) -> str:

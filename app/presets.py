@@ -127,34 +127,49 @@ def overlay_of(name: str) -> str | None:
     return OVERLAYS.get(path.stem) if path is not None else None
 
 
-# What choosing a system starts from: its internal part, run settings and defaults; the body and the
-# initial state are the current scene's where they fit (system_scene).
-SYSTEM_TEMPLATES = {"moving_mass": DEFAULT, "spherical_pendulum": "Spherical pendulum damper, resonant",
-                    "plane_pendulums": "Plane pendulums (three, in the spin plane)"}
+# What choosing a system starts from: its example scenario (physics.System.example; the moving mass's is the
+# default scene), named as the preset it equals; the body and the initial state are the current scene's where
+# they fit (system_scenes).
+def system_template(system: str) -> tuple[physics.Scenario, str]:
+    """The example scenario of ``system`` and the name the panel shows for it."""
+    if system not in physics.SYSTEMS:
+        raise physics.ScenarioError("system", system, f"is not one of {', '.join(physics.SYSTEMS)}")
+    spec = physics.SYSTEMS[system]
+    template = physics.Scenario.from_toml(spec.example)
+    if template == physics.default_scenario():
+        return template, DEFAULT
+    same = (title for title, data in BUILT_IN.items() if physics.Scenario.from_dict(data) == template)
+    return template, next(same, f"{spec.label} example")
+
+
+def _with_start(data: dict) -> physics.Scenario:
+    """The scenario of ``data``; a start the system refuses (a quasi-static mass: pendulum bobs start at rest)
+    falls back to its default."""
+    try:
+        return physics.Scenario.from_dict(data)
+    except physics.ScenarioError as exc:
+        if exc.key != "initial.mass_state" or "mass_state" not in data["initial"]:
+            raise
+        data["initial"].pop("mass_state")
+        return physics.Scenario.from_dict(data)
 
 
 def system_scenes(current: physics.Scenario, system: str) -> list[tuple[physics.Scenario, str]]:
-    """Scenes of ``system`` to try in turn, each (scenario, the name the panel shows): the template preset's
-    internal part with the current body (A, B, C, M) and initial state (G0 and theta0, or omega); then the
-    same with the template's spring as a number (a prolate body has no resonant spring); then the template
-    as it is. Some refusals come only when a run starts (the resonant spring), so the engine tries them."""
-    if system not in SYSTEM_TEMPLATES:
-        raise physics.ScenarioError("system", system, f"is not one of {', '.join(SYSTEM_TEMPLATES)}")
-    name = SYSTEM_TEMPLATES[system]
-    template = load_preset(name)
+    """Scenes of ``system`` to try in turn, each (scenario, the name the panel shows): the template's internal
+    part with the current body (A, B, C, M) and initial state (G0 and theta0, or omega); then the same with the
+    template's spring as a number (a prolate body has no resonant spring); then the template as it is. Some
+    refusals come only when a run starts (the resonant spring), so the engine tries them."""
+    template, name = system_template(system)
     data = template.to_dict()
     now = current.to_dict()
     data["body"] = now["body"]
-    initial = dict(now["initial"])
-    if system != "moving_mass":
-        initial.pop("mass_state", None)  # only a moving mass has a quasi-static start
-    data["initial"] = initial
+    data["initial"] = dict(now["initial"])
     out = []
     try:
-        out.append((physics.Scenario.from_dict(data), f"{name}, body kept"))
+        out.append((_with_start(data), f"{name}, body kept"))
         if isinstance(data.get("pendulum", {}).get("k"), str):
             data["pendulum"]["k"] = float(physics.derived(template)["k"])  # the template's spring, as a number
-            out.append((physics.Scenario.from_dict(data), f"{name}, body kept"))
+            out.append((_with_start(data), f"{name}, body kept"))
     except physics.ScenarioError:
         pass
     return out + [(template, name)]

@@ -12,39 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
+from physics import qconj, qmul, rotate  # noqa: F401  (physics' quaternions, named here for the scene's tests)
+
 E3 = np.array([0.0, 0.0, 1.0])
 
 
-# ---- quaternions -----------------------------------------------------------------------------
-
-def qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product a b (scalar first)."""
-    w1, x1, y1, z1 = a
-    w2, x2, y2, z2 = b
-    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
-
-
-def qconj(q: np.ndarray) -> np.ndarray:
-    return np.array([q[0], -q[1], -q[2], -q[3]])
-
-
-def rotation_matrix(q: np.ndarray) -> np.ndarray:
-    """R(q) (3, 3) of a quaternion (scalar first; normalised here)."""
-    w, x, y, z = (float(c) for c in q)
-    n = w * w + x * x + y * y + z * z
-    s = 2.0 / n
-    return np.array([[1 - s * (y * y + z * z), s * (x * y - w * z), s * (x * z + w * y)],
-                     [s * (x * y + w * z), 1 - s * (x * x + z * z), s * (y * z - w * x)],
-                     [s * (x * z - w * y), s * (y * z + w * x), 1 - s * (x * x + y * y)]])
-
-
-def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """R(q) v for one quaternion q (4,) and vectors v (..., 3). A matrix product: several times
-    cheaper than numpy's cross products for the few vectors each frame turns."""
-    return np.asarray(v, dtype=float) @ rotation_matrix(q).T
-
+# ---- quaternions (the products and rotations are physics') -----------------------------------------
 
 def align(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The shortest rotation (quaternion) taking direction a to direction b."""

@@ -35,6 +35,9 @@ class App:
             from .guard import configure
 
             configure(host)  # before the server starts: same-origin browsers and this host's name only
+            from .share_link import install as share_links
+
+            share_links()  # the page hands its address and a link's scene to the tab (app.share_link)
         self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
         self.sessions: dict[int, Session] = {}
         self.stats: dict = {}

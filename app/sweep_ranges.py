@@ -26,9 +26,7 @@ MAX_BOX_DIGITS = 12
 
 def scenario_key(slider_key: str, system: str) -> str:
     """The scenario key a slider stands for: the pendulum sliders set every [[plane_pendulum]]."""
-    if system == controls.PL and slider_key.startswith("pendulum."):
-        return "plane_pendulum." + slider_key.split(".", 1)[1]
-    return slider_key
+    return controls.scenario_key(slider_key, system)
 
 
 def current_value(sc: physics.Scenario, key: str) -> float:

@@ -1,6 +1,6 @@
-"""Work-precision and stability studies of the physics core (issue 5). ``python -m bench --help``.
+"""The project's studies and benchmarks, one subcommand each: ``python -m bench --help`` lists them.
 
 Each command writes CSV (and JSON metadata: machine, versions, command) into bench/results/ and
-charts into docs/img/. bench imports physics (and, for the MuJoCo peers, the verified MuJoCo
-models in tests/); physics never imports bench.
+charts into docs/img/. bench imports physics (its benchmark problems, numpy and MuJoCo peers from
+physics/reference/, which the tests share); physics never imports bench.
 """

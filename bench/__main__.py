@@ -1,43 +1,41 @@
-"""``python -m bench work-precision [--quick]``, ``python -m bench stability [--quick]`` and
-``python -m bench figures [...]`` (bench/figures.py, its own options), ``python -m bench soak --minutes N``
-and ``python -m bench load --clients 10 --minutes 5`` (bench/soak.py, bench/load.py);
-``python -m bench sweep SCENARIO.toml --vary KEY=SPEC ...`` (bench/sweep.py, its own options)."""
+"""``python -m bench STUDY [options]``: one subcommand per study; ``python -m bench STUDY --help`` gives the
+study's own options (each module parses them in its ``main(argv) -> int``)."""
 
 from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
+from importlib import import_module
 
-ROOT = Path(__file__).resolve().parent.parent
+# subcommand -> (module in bench/, one line for --help). Modules are imported only when their study runs (or
+# shows its help): the explorer benchmarks pull in playwright and the app, the studies scipy and MuJoCo.
+STUDIES = {
+    "work-precision": ("work_precision", "error against cost for every method on problems P1-P4 (issue 5)"),
+    "stability": ("stability", "where methods fail: stiffness, drift, validity, braking (issue 5)"),
+    "figures": ("figures", "the papers' figures redrawn by the project's code, and the explorer's figure presets"),
+    "sweep": ("sweep", "a parameter sweep of a scenario file, or --scaling: wall time against workers"),
+    "soak": ("soak", "the explorer served for N minutes: the server's memory growth"),
+    "load": ("load", "the explorer served to several websocket clients: updates per second, memory"),
+    "explorer-rates": ("explorer_rates", "frames per second, achieved warp and slider latency of the explorer"),
+    "explorer-startup": ("explorer_startup", "time from `python -m app` to the scene drawn in chromium (--cold: "
+                                             "first start)"),
+}
 
 
-def main(argv=None) -> int:
+def parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="python -m bench", description=__doc__.split("\n\n")[0])
+    sub = ap.add_subparsers(dest="study", metavar="STUDY", required=True)
+    for name, (_module, line) in STUDIES.items():
+        # add_help=False and no arguments of its own: everything after the name, --help included, goes to the
+        # study's parser, so each study's options are written once, in its module
+        sub.add_parser(name, help=line, description=line, add_help=False)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv[:1] == ["figures"]:
-        from .figures import main as figures
-
-        return figures(argv[1:])
-    if argv[:1] == ["sweep"]:
-        from .sweep import main as sweep
-
-        return sweep(argv[1:])
-    if argv[:1] in (["soak"], ["load"]):  # serve the explorer to websocket clients (bench/soak.py, bench/load.py)
-        from importlib import import_module
-
-        return import_module(f".{argv[0]}", __package__).main(argv[1:])
-    ap = argparse.ArgumentParser(prog="python -m bench", description=__doc__)
-    ap.add_argument("command", choices=("work-precision", "stability", "figures", "sweep"))
-    ap.add_argument("--quick", action="store_true", help="small sweeps and short horizons (CI: under a minute)")
-    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results", help="where the CSV and metadata go")
-    ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img", help="where the charts go")
-    args = ap.parse_args(argv)
-    if args.command == "work-precision":
-        from .work_precision import main as run
-    else:
-        from .stability import main as run
-    run(args.quick, args.out, args.img)
-    return 0
+    args, rest = parser().parse_known_args(argv)
+    return import_module(f".{STUDIES[args.study][0]}", __package__).main(rest)
 
 
 if __name__ == "__main__":

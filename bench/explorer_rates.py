@@ -3,10 +3,13 @@ default scene, and the latency from a slider change to the first published frame
 
 Starts the app in-process on a free port, connects Debian's chromium (Playwright) so a session
 exists, and reads the session's counters. Usage:
-``python bench/explorer_rates.py [seconds] [--out CSV] [--img PNG]`` (seconds per warp, default 10) prints a
+``python -m bench explorer-rates [seconds] [--out CSV] [--img PNG]`` (seconds per warp, default 10) prints a
 small table and writes bench/results/explorer_rates.csv, bench/results/explorer_rates.meta.json (the command,
 the date, the machine and versions, the load average before and after) and the chart
-docs/img/explorer_rates.png. ``--chart-only`` redraws the chart from the CSV without measuring.
+docs/img/explorer_rates.png. ``--chart-only`` redraws the chart from the CSV without measuring. ``--compare`` adds
+the frame rates with compare mode's second body (app.compare) and writes bench/results/explorer_rates_compare.csv
+(+ .meta.json) and docs/img/explorer_rates_compare.png instead.
+(``python bench/explorer_rates.py ...`` runs the same.)
 """
 
 from __future__ import annotations
@@ -21,18 +24,31 @@ from pathlib import Path
 
 from playwright.sync_api import sync_playwright
 
-from app.server import App, warm_up
-from bench.explorer_startup import machine, save_chart
-
 ROOT = Path(__file__).resolve().parents[1]
+if not __package__:  # run as a file (python bench/explorer_rates.py): its folder is on the path, not the project's
+    sys.path.insert(0, str(ROOT))
+
+from app.server import App, warm_up  # noqa: E402
+from bench.cli import study_parser  # noqa: E402
+from bench.explorer_startup import save_chart  # noqa: E402
+from bench.machine import machine  # noqa: E402
+
 OUT = ROOT / "bench" / "results" / "explorer_rates.csv"
 IMG = ROOT / "docs" / "img" / "explorer_rates.png"
+
+COMPARE = ("mass.m", 0.0)  # --compare: the second body is the default scene without the mass
+OUT_COMPARE = ROOT / "bench" / "results" / "explorer_rates_compare.csv"
+IMG_COMPARE = ROOT / "docs" / "img" / "explorer_rates_compare.png"
 
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
          "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 
 
-def main(seconds: float = 10.0, out: Path = OUT, img: Path = IMG) -> None:
+def measure(seconds: float = 10.0, out: Path = OUT, img: Path = IMG, command: str | None = None,
+            compare: bool = False) -> None:
+    """Measure, print, write the CSV and its metadata (``command`` recorded in it), draw the chart. With
+    ``compare``, the same frame rates again with compare mode's second body (app.compare: the default scene
+    without the mass beside it), in the same run and on the same page."""
     load_before = os.getloadavg()[0]
     warm_up()
     app = App(port=0)
@@ -62,6 +78,8 @@ def main(seconds: float = 10.0, out: Path = OUT, img: Path = IMG) -> None:
                 rows.append(dict(quantity=f"achieved warp at {warp:g}x", value=round((eng.run.t - s0) / dt, 1)))
                 rows.append(dict(quantity=f"integration wall fraction at {warp:g}x",
                                  value=round((eng.wall_total - w0) / dt, 3)))
+            if compare:
+                rows += _compare_rows(session, eng, page, received, seconds)
             eng.request("warp", 1.0)
             lat = []
             for i in range(20):
@@ -90,12 +108,38 @@ def main(seconds: float = 10.0, out: Path = OUT, img: Path = IMG) -> None:
         w = csv.DictWriter(f, fieldnames=["quantity", "value"])
         w.writeheader()
         w.writerows(rows)
-    meta = dict(command=f"python bench/explorer_rates.py {seconds:g}", seconds_per_warp=seconds,
+    meta = dict(command=command or f"python -m bench explorer-rates {seconds:g}", seconds_per_warp=seconds,
                 date=time.strftime("%Y-%m-%dT%H:%M:%S+00:00", time.gmtime()), machine=box,
                 load1_before=round(load_before, 2), load1_after=round(os.getloadavg()[0], 2))
     meta_path(out).write_text(json.dumps(meta, indent=2) + "\n")
     print(f"wrote {out} and {meta_path(out).name}")
     chart(out, img)
+
+
+def _compare_rows(session, eng, page, received: list, seconds: float) -> list[dict]:
+    """Frames published and received per second, achieved warp and tick/publish ms with both bodies."""
+    rows = []
+    eng.request("compare", COMPARE)
+    page.wait_for_timeout(1000)
+    if eng.compare is None:
+        raise RuntimeError(f"compare mode did not turn on: {eng.error}")
+    for warp in (1.0, 1000.0):
+        eng.request("warp", warp)
+        page.wait_for_timeout(1000)
+        session.frame_ms.clear()
+        f0, r0, t0, s0 = session.published, received[0], time.perf_counter(), eng.run.t
+        page.wait_for_timeout(int(seconds * 1000))
+        dt = time.perf_counter() - t0
+        both = f"at {warp:g}x, two bodies"
+        rows.append(dict(quantity=f"frames published per s {both}", value=round((session.published - f0) / dt, 1)))
+        rows.append(dict(quantity=f"websocket messages received per s {both}",
+                         value=round((received[0] - r0) / dt, 1)))
+        rows.append(dict(quantity=f"achieved warp {both}", value=round((eng.run.t - s0) / dt, 1)))
+        ms = sorted(m[0] + m[1] for m in session.frame_ms)
+        rows.append(dict(quantity=f"frame (tick + publish) ms {both}, median", value=round(ms[len(ms) // 2], 2)))
+    eng.request("compare", None)
+    page.wait_for_timeout(500)
+    return rows
 
 
 def meta_path(out: Path) -> Path:
@@ -136,20 +180,27 @@ def chart(out: Path = OUT, img: Path = IMG) -> None:
     save_chart(fig, img)
 
 
-def parse(argv: list[str]):
-    import argparse
-
-    ap = argparse.ArgumentParser(prog="python bench/explorer_rates.py", description=__doc__.split("\n")[0])
+def main(argv: list[str] | None = None, prog: str | None = None) -> int:
+    """``python -m bench explorer-rates [seconds] [--out CSV] [--img PNG] [--chart-only]``."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    ap = study_parser("explorer-rates", __doc__, prog)
     ap.add_argument("seconds", nargs="?", type=float, default=10.0, help="seconds measured at each warp (default 10)")
     ap.add_argument("--out", type=Path, default=OUT, help=f"the CSV (default {OUT.relative_to(ROOT)})")
     ap.add_argument("--img", type=Path, default=IMG, help=f"the chart (default {IMG.relative_to(ROOT)})")
     ap.add_argument("--chart-only", action="store_true", help="redraw the chart from the CSV; measure nothing")
-    return ap.parse_args(argv)
-
-
-if __name__ == "__main__":
-    a = parse(sys.argv[1:])
+    ap.add_argument("--compare", action="store_true",
+                    help="also measure with compare mode's second body (the default scene without the mass); "
+                         f"default outputs {OUT_COMPARE.relative_to(ROOT)} and {IMG_COMPARE.relative_to(ROOT)}")
+    a = ap.parse_args(argv)
+    if a.compare:  # its own files: the single-body figures quoted in the README stay as they were measured
+        a.out = OUT_COMPARE if a.out == OUT else a.out
+        a.img = IMG_COMPARE if a.img == IMG else a.img
     if a.chart_only:
         chart(a.out, a.img)
     else:
-        main(a.seconds, a.out, a.img)
+        measure(a.seconds, a.out, a.img, command=" ".join([ap.prog, *argv]), compare=a.compare)
+    return 0
+
+
+if __name__ == "__main__":  # the older way to run it, kept working: python bench/explorer_rates.py ...
+    raise SystemExit(main(sys.argv[1:], prog="python bench/explorer_rates.py"))

@@ -5,10 +5,10 @@ Each repetition launches ``python -m app --port 0`` and opens the URL in Debian'
 (Playwright) as soon as the server prints it: the server starts before the physics loads, so the
 page loads meanwhile. The clock stops when the tab shows its first readouts (the panel is filled by
 the session's first published frames, after the scene's meshes are sent). Usage:
-``python bench/explorer_startup.py [repetitions] [--compare-env-map]``; prints a table and writes
-bench/results/explorer_startup.csv.
+``python -m bench explorer-startup [repetitions] [--compare-env-map]``; prints a table and writes
+bench/results/explorer_startup.csv. (``python bench/explorer_startup.py ...`` runs the same.)
 
-``python bench/explorer_startup.py --cold [repetitions] [--out CSV] [--img PNG] [--fast-timeout S]``
+``python -m bench explorer-startup --cold [repetitions] [--out CSV] [--img PNG] [--fast-timeout S]``
 measures the first start on a machine: launches with an empty numba cache (each its own new
 NUMBA_CACHE_DIR, so the developer's cache is left alone) interleaved with launches on a warm one, each
 until the scene moves (the readouts' t passes 0) and until the status line stops saying it prepares the
@@ -38,6 +38,14 @@ from playwright.sync_api import TimeoutError as PlaywrightTimeout
 from playwright.sync_api import sync_playwright
 
 ROOT = Path(__file__).resolve().parents[1]
+if not __package__:  # run as a file (python bench/explorer_startup.py): its folder is on the path, not the project's
+    sys.path.insert(0, str(ROOT))
+
+from bench.cli import study_parser  # noqa: E402
+from bench.machine import machine  # noqa: E402
+
+# the machine's columns in each row of the --cold CSV: the ones its earlier files have (bench.machine has more)
+ROW_MACHINE = ("cpu", "cores", "python", "numpy", "numba")
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run"]
 # python -m app with viser's default environment map kept: the explorer's call that turns it off does nothing
 WITH_ENV_MAP = ("import sys, viser._scene_api as s; f = s.SceneApi.configure_environment_map; "
@@ -119,7 +127,7 @@ def launch_once(browser, after_ready: bool = False, env_map: bool = False, env: 
         proc.wait(timeout=10)
 
 
-def main(repetitions: int = 5, compare_env_map: bool = False) -> None:
+def warm_main(repetitions: int = 5, compare_env_map: bool = False) -> None:
     rows = []
     variants = [False, True] if compare_env_map else [False]
     with sync_playwright() as p:
@@ -147,23 +155,6 @@ def main(repetitions: int = 5, compare_env_map: bool = False) -> None:
     print(f"wrote {out}")
 
 
-def machine() -> dict:
-    """What the figures were measured on: the CPU, its cores, the versions, the load."""
-    import platform
-
-    import numba
-    import numpy
-
-    cpu = platform.processor() or platform.machine()
-    try:
-        cpu = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                   if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return dict(cpu=cpu, cores=os.cpu_count(), python=platform.python_version(), numpy=numpy.__version__,
-                numba=numba.__version__)
-
-
 def cold_main(repetitions: int = 3, out: Path | None = None, img: Path | None = None,
               fast_timeout: float = 300.0, inline: bool = False) -> dict:
     """Cold and warm launches, interleaved, measured in one run. A cold launch gets an empty numba cache of
@@ -180,8 +171,8 @@ def cold_main(repetitions: int = 3, out: Path | None = None, img: Path | None = 
     with tempfile.TemporaryDirectory(prefix="quasirigid-numba-") as tmp, sync_playwright() as p:
         warm_env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "warm"))
         # fill the warm cache as the explorer's own build does (and write its "built" stamp), at full priority
-        subprocess.run([sys.executable, "-c", "from physics.kernel_build import build_here; build_here()"], cwd=ROOT,
-                       env=warm_env, check=True)
+        subprocess.run([sys.executable, "-c", "from physics.stepping.warm import build_here; build_here()"],
+                       cwd=ROOT, env=warm_env, check=True)
         browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=FLAGS)
         launch_once(browser, env=warm_env, moving=True)  # uncounted: the OS file cache, chromium
         for i in range(repetitions):
@@ -192,7 +183,7 @@ def cold_main(repetitions: int = 3, out: Path | None = None, img: Path | None = 
                 load = os.getloadavg()[0]
                 times = launch_once(browser, env=env, moving=True, fast_timeout=fast_timeout, page_timeout=240.0)
                 rows.append(dict(run=i + 1, cache=kind, **{k: round(float(v), 3) for k, v in times.items()},
-                                 load1=round(load, 2), **box))
+                                 load1=round(load, 2), **{k: box[k] for k in ROW_MACHINE}))
                 print({k: rows[-1][k] for k in ("run", "cache", "scene_drawn_s", "moving_s", "fast_integrator_s",
                                                  "load1")}, flush=True)
         browser.close()
@@ -267,10 +258,9 @@ def save_chart(fig, img: Path) -> None:
     print(f"wrote {img}")
 
 
-def parse(argv: list[str]):
-    import argparse
-
-    ap = argparse.ArgumentParser(prog="python bench/explorer_startup.py", description=__doc__.split("\n")[0])
+def main(argv: list[str] | None = None, prog: str | None = None) -> int:
+    """``python -m bench explorer-startup [repetitions] [--compare-env-map]`` or ``... --cold [options]``."""
+    ap = study_parser("explorer-startup", __doc__, prog)
     ap.add_argument("repetitions", nargs="?", type=int, help="launches of each kind (default 5; --cold: 3)")
     ap.add_argument("--compare-env-map", action="store_true", help="alternate with viser's default environment map")
     ap.add_argument("--cold", action="store_true", help="launches with an empty numba cache against warm ones")
@@ -280,12 +270,13 @@ def parse(argv: list[str]):
     ap.add_argument("--img", type=Path, help="--cold: the chart (default docs/img/explorer_startup_cold.png)")
     ap.add_argument("--fast-timeout", type=float, default=300.0,
                     help="--cold: seconds to wait for the compiled integrator after the scene moves (default 300)")
-    return ap.parse_args(argv)
-
-
-if __name__ == "__main__":
-    a = parse(sys.argv[1:])
+    a = ap.parse_args(argv)
     if a.cold:
         cold_main(a.repetitions or 3, a.out, a.img, a.fast_timeout, a.inline)
     else:
-        main(a.repetitions or 5, compare_env_map=a.compare_env_map)
+        warm_main(a.repetitions or 5, compare_env_map=a.compare_env_map)
+    return 0
+
+
+if __name__ == "__main__":  # the older way to run it, kept working: python bench/explorer_startup.py ...
+    raise SystemExit(main(sys.argv[1:], prog="python bench/explorer_startup.py"))

@@ -37,10 +37,13 @@ import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
 import physics  # noqa: E402
-from physics import closed as cf  # noqa: E402
-from physics import pendulum_frequencies as pf  # noqa: E402
-from physics import pendulum_linear as pl  # noqa: E402
-from physics.pendulum_system import pendulum_system  # noqa: E402
+from physics.reference.averaged_equations import rhs_32  # noqa: E402
+from physics.reference.problems import set_R  # noqa: E402
+from physics.systems.moving_mass import closed as cf  # noqa: E402
+from physics.systems.moving_mass.closed004 import braking_tau_24, nutation_curve_24  # noqa: E402
+from physics.systems.pendulum import frequencies as pf  # noqa: E402
+from physics.systems.pendulum import linear as pl  # noqa: E402
+from physics.systems.pendulum.geometry import pendulum_system  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 DEG = math.pi / 180
@@ -89,28 +92,17 @@ SIGMAS_000 = (0.02, 0.2, 1.0, 5.0, 50.0)  # |sigma|; each with both signs
 THETA0_000 = {"a": math.pi / 3, "b": math.pi / 6}
 
 
-def rhs_32(t, w, A, C, N, b):
-    """Seed 000 eq. (3.2) corrected (MODELS A.6 seed 000 item 7) with u* = -K/|K| and A_c = 0 (A_c only turns
-    (w1, w2) and does not enter theta). w = (w1, w2, w3) rad/s."""
-    w1, w2, w3 = w
-    wp2 = w1 * w1 + w2 * w2
-    d = 1.0 - C / A
-    K = math.sqrt(A * A * wp2 + C * C * w3 * w3)
-    k = b / K
-    return [d * w2 * w3 - k * w1 + N * w1 * w3**4, -d * w1 * w3 - k * w2 + N * w2 * w3**4,
-            -k * w3 - N * (A / C) ** 2 * wp2 * w3**3]
-
-
 def integrate_32(theta0: float, sigma: float, tau: np.ndarray) -> np.ndarray:
-    """theta(tau) by numerical integration of (3.2) with K0 = 1, b = 0.01: prolate (C = 0.5) for sigma > 0,
-    oblate (C = 1.4) for sigma < 0; N from sigma = 5 b C^4/(2 N K0^5). Stops at tau = 1 - 1e-6."""
+    """theta(tau) by numerical integration of (3.2) (A_c = 0: it does not enter theta) with K0 = 1, b = 0.01:
+    prolate (C = 0.5) for sigma > 0, oblate (C = 1.4) for sigma < 0; N from sigma = 5 b C^4/(2 N K0^5).
+    Stops at tau = 1 - 1e-6."""
     A, b = 1.0, 0.01
     C = 0.5 if sigma > 0 else 1.4
     N = 5 * b * C**4 / (2 * sigma)
     T = 1.0 / b
     t = np.minimum(tau, 1 - 1e-6) * T
     w0 = [math.sin(theta0) / A, 0.0, math.cos(theta0) / C]
-    sol = solve_ivp(rhs_32, (0, t[-1]), w0, method="DOP853", t_eval=t, rtol=1e-11, atol=1e-14, args=(A, C, N, b))
+    sol = solve_ivp(rhs_32, (0, t[-1]), w0, method="DOP853", t_eval=t, rtol=1e-11, atol=1e-14, args=(A, C, 0.0, N, b))
     return np.arctan2(A * np.hypot(sol.y[0], sol.y[1]), C * sol.y[2])
 
 
@@ -201,22 +193,12 @@ FIGS_004 = {
 }
 
 
-def tau_stop(k_star: float) -> float:
-    """Dimensionless braking time tau_T = ln(1 + 1/k*) of eq. (24)."""
-    return math.log1p(1.0 / k_star)
-
-
-def curve_24(G1: float, G2: float, k: float, n: int = 301) -> tuple[np.ndarray, np.ndarray]:
-    tau = np.linspace(0, tau_stop(k), n)
-    return tau, cf.nutation_angle_24(tau, THETA0_004, G1, G2, k)
-
-
 def seed004_data(quick: bool = False) -> dict:
     """Eq. (24) curves per figure, and the final angle theta(tau_T) against k* for Gamma1 = Gamma2 = 1."""
     n = 101 if quick else 301
-    figs = {f: {c: curve_24(*c, n=n) for c in curves} for f, curves in FIGS_004.items()}
+    figs = {f: {c: nutation_curve_24(THETA0_004, *c, n=n) for c in curves} for f, curves in FIGS_004.items()}
     ks = np.linspace(0.05, 3.0, 60 if quick else 300)
-    finals = np.array([cf.nutation_angle_24(np.array([tau_stop(k)]), THETA0_004, 1.0, 1.0, k)[0] for k in ks])
+    finals = np.array([cf.nutation_angle_24(np.array([braking_tau_24(k)]), THETA0_004, 1.0, 1.0, k)[0] for k in ks])
     return dict(figs=figs, k_star=ks, final=finals)
 
 
@@ -270,7 +252,7 @@ def physical_scenario_004(shape: str, G1: float, G2: float, k_star: float, sampl
     base["cavity"] = {"beta": beta, "nu": CAVITY_NU, "a0": CAVITY_A0}
     base["medium"] = {"lambda": lam}
     base["control"] = {"b": k_star * lam * G0, "law": "K"}
-    base["run"].update(t_end=1.05 * tau_stop(k_star) / lam, samples=samples)
+    base["run"].update(t_end=1.05 * braking_tau_24(k_star) / lam, samples=samples)
     return physics.Scenario.from_dict(base)
 
 
@@ -284,7 +266,7 @@ def seed004_physical_data(quick: bool = False) -> dict:
             for j, (G1, G2, k) in enumerate(curves):
                 sc = physical_scenario_004(shape, G1, G2, k)
                 co = physics.coefficients(sc)
-                tau, th = curve_24(co.Gamma1, co.Gamma2, co.k_star, n=101 if quick else 301)
+                tau, th = nutation_curve_24(THETA0_004, co.Gamma1, co.Gamma2, co.k_star, n=101 if quick else 301)
                 entry = dict(Gamma1=co.Gamma1, Gamma2=co.Gamma2, k_star=co.k_star, tau=tau, theta=th, full=None)
                 if j == 0 and (f == 1 or not quick):
                     tr = _quiet_simulate(sc)
@@ -325,21 +307,6 @@ def fig_seed004_physical(out: Path, quick: bool) -> list[Path]:
 
 
 # ==== seed 002 ======================================================================================
-
-def set_R(theta0: float = 1 * DEG, *, k: float | str = "resonant", c_d: float = 8.0, t_end: float = 60.0,
-          samples: int = 1201, h: float = -0.7, A_carrier: float = 100.0) -> physics.Scenario:
-    """MODELS B.8's reference set R (carrier A = B = 100, C = 150, M = 500; bob m = 5, l = 1, pivot h = -0.7;
-    W = 2), in frozen-system moments, started at nutation theta0 with the pendulum at rest."""
-    M0, m, l, W, C = 500.0, 5.0, 1.0, 2.0, 150.0
-    mu = m * M0 / (M0 + m)
-    D = (M0 + m) * (h + l) / M0
-    A = A_carrier + mu * D**2
-    return physics.Scenario.from_dict({
-        "body": {"A": A, "B": A, "C": C, "M": M0 + m},
-        "pendulum": {"m": m, "l": l, "h": h, "k": k, "c_d": c_d},
-        "initial": {"omega": [C * W * math.tan(theta0) / A, 0.0, W]},
-        "run": {"t_end": t_end, "samples": samples, "rtol": 1e-11, "fidelity": "full"}})
-
 
 MU_R = 5.0 * 500.0 / 505.0  # reduced mass of set R, kg
 OMEGA0_RES = 3.0  # rad/s, C W / A for set R

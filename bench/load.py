@@ -26,7 +26,6 @@ import asyncio
 import ctypes
 import json
 import os
-import platform
 import statistics
 import subprocess
 import sys
@@ -35,6 +34,8 @@ import time
 import warnings
 import weakref
 from pathlib import Path
+
+from .machine import machine
 
 ROOT = Path(__file__).resolve().parent.parent
 TARGET_UPDATES_PER_S = 30.0  # issue 7: each client keeps receiving at least this many
@@ -305,16 +306,17 @@ def summarize(per_client, rss, frames, *, seconds, warmup, clients, churned, ses
         rss_growth=(last - base) / base if after else float("nan"),
         rss_mb_series=[(round(t, 1), round(r / 2**20, 2)) for t, r in rss[:: max(1, len(rss) // 120)]],
         server_frames=frames[-1][1] if frames else 0, sessions_left_at_end=sessions_left,
-        machine=dict(python=platform.python_version(), cpus=os.cpu_count(), platform=platform.platform()),
+        machine=machine(),
     )
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m bench load", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--clients", type=int, default=10)
-    ap.add_argument("--minutes", type=float, default=5.0)
+    ap.add_argument("--clients", type=int, default=10, help="websocket clients watching at once (default 10)")
+    ap.add_argument("--minutes", type=float, default=5.0, help="how long they watch (default 5)")
     ap.add_argument("--warmup", type=float, default=15.0, help="seconds not measured at the start")
-    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "load.json")
+    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "load.json",
+                    help="the JSON result (default bench/results/load.json)")
     a = ap.parse_args(argv)
     res = serve_and_watch(a.clients, 60.0 * a.minutes, warmup=a.warmup)
     res["command"] = "python -m bench load " + " ".join(argv if argv is not None else sys.argv[1:])

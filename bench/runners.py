@@ -15,7 +15,7 @@ from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau
 
 import physics
 from physics.compiled import dispatch, dop853, fixed, midpoint
-from physics.simulate import ATOL_FACTOR
+from physics.stepping.simulate import ATOL_FACTOR
 
 SCIPY = {"DOP853": DOP853, "RK45": RK45, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 
@@ -97,7 +97,7 @@ def simulate_run(sc: physics.Scenario, method: str, **run):
 
 def warm_up() -> None:
     """Compile (or load from numba's cache) every kernel path the benchmark times."""
-    from . import problems as P
+    from physics.reference import problems as P
 
     t = np.linspace(0.0, 1.0, 3)
     y0, p = P.p1_initial(), P.p1_params()

@@ -30,14 +30,15 @@ TARGET_GROWTH = 0.05  # issue 7: RSS growth after warm-up under 5 % over 60 minu
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m bench soak", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--minutes", type=float, required=True)
-    ap.add_argument("--clients", type=int, default=2)
+    ap.add_argument("--minutes", type=float, required=True, help="how long the explorer is served (60: the target)")
+    ap.add_argument("--clients", type=int, default=2, help="websocket clients watching (default 2)")
     ap.add_argument("--warmup", type=float, default=None, help="seconds not measured (default: run/5, <= 120)")
     ap.add_argument("--churn", type=float, default=10.0, help="seconds between preset loads (0: none)")
     ap.add_argument("--reconnect", type=float, default=30.0, help="seconds between reconnections (0: none)")
     ap.add_argument("--trim", action="store_true", help="call glibc malloc_trim before each memory sample (tells a "
                     "leak from freed memory the allocator keeps)")
-    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "soak.json")
+    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "soak.json",
+                    help="the JSON result (default bench/results/soak.json)")
     a = ap.parse_args(argv)
     seconds = 60.0 * a.minutes
     warmup = a.warmup if a.warmup is not None else min(120.0, seconds / 5)

@@ -28,10 +28,11 @@ import numpy as np
 
 import physics
 from physics.compiled import dispatch
+from physics.reference import problems as P
 
-from . import problems as P
 from . import runners as R
-from .work_precision import machine
+from .cli import quick_out_img_parser
+from .machine import machine
 
 STABLE_THETA = 0.05  # rad: a run whose theta strays further than this from the reference has failed
 NO_END_NFEV = 200_000  # evaluations after which a run that has no end at |G| = 0 is given up
@@ -146,7 +147,7 @@ def drift(quick: bool, out: Path, img: Path) -> list[dict]:
         tr, nfev, steps, wall = R.simulate_run(sc, method, **extra)
         runs[label] = (tr.t, tr.K, tr.E, nfev, wall)
         R.log(f"  {label}: {wall:.2f} s")
-    from . import mujoco_moving_mass as mm
+    from physics.reference import mujoco_moving_mass as mm
 
     ms, body = sc.mass, sc.body
     t = sc.run.times()
@@ -302,13 +303,22 @@ def braking(quick: bool, out: Path, img: Path) -> list[dict]:
     return rows
 
 
-def main(quick: bool, out: Path, img: Path) -> dict:
+def main(argv: list[str] | None = None) -> int:
+    """``python -m bench stability [--quick] [--out DIR] [--img DIR]``."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    a = quick_out_img_parser("stability", __doc__).parse_args(argv)
+    run(a.quick, a.out, a.img, command=" ".join(["python -m bench stability", *argv]))
+    return 0
+
+
+def run(quick: bool, out: Path, img: Path, command: str = "python -m bench stability") -> dict:
+    """The four studies, their CSVs and charts, and the metadata (``command`` is recorded in it)."""
     start = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
     img.mkdir(parents=True, exist_ok=True)
     R.log("warming up compiled code ...")
     R.warm_up()
-    meta = dict(command="python -m bench " + " ".join(sys.argv[1:]), quick=quick,
+    meta = dict(command=command, quick=quick,
                 date=datetime.now(UTC).isoformat(timespec="seconds"), machine=machine())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", physics.ValidityWarning)

@@ -19,7 +19,6 @@ import csv
 import json
 import math
 import os
-import platform
 import sys
 import time
 from datetime import UTC, datetime
@@ -28,6 +27,8 @@ from pathlib import Path
 import numpy as np
 
 import physics
+
+from .machine import machine
 
 ROOT = Path(__file__).resolve().parent.parent
 REPEATS = 3  # the scaling study keeps the fastest of this many runs of each configuration
@@ -252,16 +253,6 @@ def _cpu() -> float:
     return t.user + t.system + t.children_user + t.children_system
 
 
-def _machine() -> dict:
-    import dask
-    import distributed
-    import numba
-
-    return dict(platform=platform.platform(), cpus=os.cpu_count(), python=sys.version.split()[0],
-                numpy=np.__version__, numba=numba.__version__, dask=dask.__version__,
-                distributed=distributed.__version__)
-
-
 def _workload(name: str) -> tuple[physics.Scenario, dict]:
     """light: the resonant pendulum over 20 s (milliseconds a point); heavy: the flat spin over 600 s."""
     if name == "light":
@@ -325,7 +316,7 @@ def scaling(quick: bool, out: Path) -> int:
         for r in rows:
             wr.writerow({k: f"{v:.4g}" if isinstance(v, float) else v for k, v in r.items()})
     meta = dict(command="python -m bench sweep --scaling" + (" --quick" if quick else ""),
-                date=datetime.now(UTC).isoformat(timespec="seconds"), machine=_machine(),
+                date=datetime.now(UTC).isoformat(timespec="seconds"), machine=machine(),
                 load_average_before=load, load_average_after=os.getloadavg(),
                 workloads={"light": "pendulum_resonant.toml, t_end 20 s, 401 samples, vary pendulum.c_d",
                            "heavy": "prolate_flat_spin.toml, t_end 600 s, 601 samples (full model), vary mass.chi"})

@@ -13,7 +13,7 @@ whole 4000-revolution run would take hours per point. It runs on the first PEER_
 horizon; its wall time per evaluation times the evaluations the compiled DOP853 needs on the whole
 horizon at the same rtol (the same algorithm and step control, so the same steps: checked on the
 prefix, ``nfev_match`` in the metadata) gives its P2 row, marked "extrapolated" in ``setting``.
-On P4 (40 s) the numpy peer (``bench/numpy_rhs.spherical_pendulum_rhs``) runs the whole horizon.
+On P4 (40 s) the numpy peer (``physics/reference/numpy_rhs.spherical_pendulum_rhs``) runs the whole horizon.
 """
 
 from __future__ import annotations
@@ -21,7 +21,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import platform
 import sys
 import time
 from datetime import UTC, datetime
@@ -30,11 +29,14 @@ from pathlib import Path
 import numpy as np
 
 import physics
-from physics.compiled import dispatch, dop853
+from physics.compiled import dispatch
+from physics.reference import problems as P
+from physics.reference.numpy_rhs import moving_mass_rhs, spherical_pendulum_rhs
+from physics.systems.moving_mass.averaged_slow import averaged_slow_theta
 
-from . import problems as P
 from . import runners as R
-from .numpy_rhs import moving_mass_rhs, spherical_pendulum_rhs
+from .cli import quick_out_img_parser
+from .machine import machine
 
 COLUMNS = ("problem", "method", "setting", "error", "wall_s", "nfev", "steps")
 PEER_PREFIX = 1 / 40  # fraction of P2's horizon the numpy peer actually runs
@@ -145,8 +147,8 @@ def run_p2(tab: Table, quick: bool, meta: dict):
             tab.add("P2", label, f"rtol=atol={rtol:g} extrapolated from {frac:.3g} of T",
                     err(Yc), wall_p / nfev_p * nfev_full, nfev_full, steps_full)
     meta["numpy_peer_nfev_match"] = match
-    # MuJoCo RK4 on the same model (bench/mujoco_moving_mass.py)
-    from . import mujoco_moving_mass as mm
+    # MuJoCo RK4 on the same model (physics/reference/mujoco_moving_mass.py)
+    from physics.reference import mujoco_moving_mass as mm
 
     ms, body = sc.mass, sc.body
     gap = t[1] - t[0]
@@ -209,9 +211,8 @@ def run_p4(tab: Table, quick: bool):
         Y, nfev, steps, wall = R.scipy_run(spherical_pendulum_rhs(p), ref.t, y0, "DOP853", rtol, R.atol_for(rtol, y0))
         tab.add("P4", "scipy DOP853 (numpy rhs)", f"rtol={rtol:g}",
                 np.max(np.abs(model.observe(ref.t, Y, p, sc).theta - ref.theta)), wall, nfev, steps)
-    from physics.pendulum_system import pendulum_system
-
-    from . import mujoco_pendulum as mp
+    from physics.reference import mujoco_pendulum as mp
+    from physics.systems.pendulum.geometry import pendulum_system
 
     s = pendulum_system(sc)
     b = s.bobs[0]
@@ -248,27 +249,6 @@ def _rhs_loop_ratio(quick: bool) -> dict:
                                   under=math.inf)
     return dict(per_eval_dop853_s=wall / nfev, per_eval_rk8_s=wall_f / nfev_f, bare_rhs_s=bare,
                 ratio_dop853=(wall / nfev) / bare, ratio_rk8=(wall_f / nfev_f) / bare, goal=3.0)
-
-
-def averaged_slow_theta(sc: physics.Scenario, rtol: float):
-    """Theta (rad) at ``sc.run.times()`` from the averaged model's slow (w_perp, w3) reduction
-    (physics/compiled/averaged.py ``rhs_axisymmetric``: exact for J*1 = J*2), by the compiled DOP853
-    with the project's atol rule. Returns (theta, nfev, steps, wall_s); the wall time covers
-    packing, the initial state, the integration and theta, as simulate's does."""
-    start = time.perf_counter()
-    model = physics.get_model("moving_mass", "averaged")
-    p = model.pack(sc)
-    if p[0] != p[1]:
-        raise ValueError("the slow reduction needs an axisymmetric body (A = B)")
-    w0 = model.initial_state(sc, p)[0:3]
-    y0 = np.array([math.hypot(w0[0], w0[1]), w0[2]])
-    t = sc.run.times()
-    Y, n, status, *_, nfev, steps, _h = dop853.integrate(
-        dispatch.MASS_AVERAGED_AXISYMMETRIC, y0, p, t, rtol, R.atol_for(rtol, y0), 0.0, 0.0, 10**9, 0.0, 1.0)
-    if status != dop853.OK:
-        raise RuntimeError(dop853.STATUS_TEXT[status])
-    theta = np.arctan2(p[0] * Y[:, 0], p[2] * Y[:, 1])  # angle between G = J* w and e3
-    return theta, int(nfev), int(steps), time.perf_counter() - start
 
 
 def _averaged_vs_full(quick: bool) -> dict:
@@ -352,22 +332,6 @@ def targets(rows: list[dict], quick: bool) -> tuple[list[dict], dict]:
 
 # ---- output -----------------------------------------------------------------------------------
 
-def machine() -> dict:
-    import matplotlib
-    import numba
-    import scipy
-
-    try:
-        import mujoco
-
-        mj = mujoco.__version__
-    except ImportError:  # pragma: no cover
-        mj = None
-    return dict(platform=platform.platform(), processor=platform.processor() or platform.machine(),
-                cpus=__import__("os").cpu_count(), python=sys.version.split()[0], numpy=np.__version__,
-                scipy=scipy.__version__, numba=numba.__version__, mujoco=mj, matplotlib=matplotlib.__version__)
-
-
 def charts(rows: list[dict], img: Path) -> list[Path]:
     import matplotlib
 
@@ -397,13 +361,21 @@ def charts(rows: list[dict], img: Path) -> list[Path]:
     return paths
 
 
-def main(quick: bool, out: Path, img: Path) -> dict:
+def main(argv: list[str] | None = None) -> int:
+    """``python -m bench work-precision [--quick] [--out DIR] [--img DIR]``."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    a = quick_out_img_parser("work-precision", __doc__).parse_args(argv)
+    run(a.quick, a.out, a.img, command=" ".join(["python -m bench work-precision", *argv]))
+    return 0
+
+
+def run(quick: bool, out: Path, img: Path, command: str = "python -m bench work-precision") -> dict:
+    """Every problem, the targets, the CSVs, the metadata (``command`` is recorded in it) and the charts."""
     start = time.perf_counter()
     R.log("warming up compiled code ...")
     R.warm_up()
     tab = Table()
-    meta: dict = dict(command="python -m bench " + " ".join(sys.argv[1:]) if sys.argv[0].endswith("__main__.py")
-                      else " ".join(sys.argv), quick=quick, date=datetime.now(UTC).isoformat(timespec="seconds"),
+    meta: dict = dict(command=command, quick=quick, date=datetime.now(UTC).isoformat(timespec="seconds"),
                       machine=machine())
     run_p1(tab, quick)
     run_p2(tab, quick, meta)

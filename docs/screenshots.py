@@ -45,6 +45,7 @@ class Shot:
     scroll_to: str = "Quasirigid explorer"  # panel text brought to the top of the panel (default: its top)
     file: str = ""  # the PNG's name in --out (default guide_<name>.png)
     size: tuple[int, int] | None = None  # the page's size for this shot (default VIEWPORT)
+    wheel: int = 0  # px the panel is then scrolled with the mouse wheel (a chart's title cannot be scrolled to)
 
 
 SHOTS = (
@@ -58,6 +59,10 @@ SHOTS = (
     Shot("energy_sink_prolate", "Explorer 1's flat spin", seconds=12.0, warp=150.0),
     Shot("overlay", presets.DEFAULT, seconds=14.0, settings=(("overlay", "overlay", "averaged"),)),
     Shot("braking", "Braking with a fluid cavity and a resisting medium", seconds=10.0),
+    Shot("momentum_sphere", presets.DEFAULT, seconds=20.0, warp=3.0, wheel=640,
+         file="momentum_sphere.png", size=(1400, 900)),
+    Shot("momentum_sphere_flip", "Asymmetric body: intermediate-axis flip", seconds=15.0,
+         wheel=640, file="momentum_sphere_flip.png", size=(1400, 900)),
     Shot("figure_preset", "Braking an oblate body with a mass, a cavity and a medium (|Gamma1| = 10, k* = 0.5; "
          "Zinkevich et al., Fig. 3, physical counterpart)",
          seconds=12.0, scroll_to="Model"),
@@ -135,6 +140,10 @@ def take(session, page, shot: Shot, out: Path) -> Path:
     _open_folders(page, shot.folders)
     page.wait_for_timeout(int(shot.seconds * 1000))
     _scroll(page, shot.scroll_to)
+    if shot.wheel:
+        page.mouse.move(page.viewport_size["width"] - 200, page.viewport_size["height"] // 2)  # over the panel
+        page.mouse.wheel(0, shot.wheel)
+        page.wait_for_timeout(500)
     path = _save(page, out / (shot.file or f"guide_{shot.name}.png"))
     if shot.size is not None:
         page.set_viewport_size(VIEWPORT)

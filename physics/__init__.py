@@ -8,28 +8,47 @@ Headless (numpy, scipy, numba); never imports the app or viser. The public API:
     physics.sweep(sc, vary={"mass.chi": "1:20:5"}, metric="decay_time")   # SweepTable (docs/sweeps.md)
 """
 
-from . import closed
-from .carry import CannotCarry, Carried, carry_state
-from .coefficients import Coefficients, coefficients, initial_G
-from .defaults import default_scenario
-from .derived import derived
-from .errors import IntegrationFault, ScenarioError, ValidityWarning
-from .kernel_build import BuildStatus
-from .kernel_build import start as build_kernels
-from .kernel_build import status as kernel_status
-from .live import LiveRun
-from .metrics import METRICS, Metric
-from .models import REGISTRY, Model, get_model
-from .params import Body, Cavity, Control, Initial, Mass, Medium, Run
-from .pendulum_system import resolved_stiffness
-from .scenario import Scenario
-from .simulate import simulate
-from .sweep import SweepTable, axis_values, check_point, numeric_keys, point_scenario, resolve_key, sweep
-from .trajectory import Trajectory
-from .validity import averaged_conditions, choose_fidelity
-from .validity import conditions as validity_conditions
-from .work_precision import Row as WorkPrecisionRow
-from .work_precision import WorkPrecision, work_precision
+from physics.core.errors import IntegrationFault, ScenarioError, ValidityWarning
+from physics.core.rotation import IDENTITY, qconj, qmul, rotate, rotation_matrix
+from physics.core.trajectory import Trajectory
+from physics.kernels.build import BuildStatus
+from physics.kernels.build import status as kernel_status
+from physics.registry import (
+    REGISTRY,
+    SYSTEMS,
+    Model,
+    Param,
+    System,
+    Table,
+    get_model,
+    get_system,
+    load_builtin,
+    register_system,
+    unregister_system,
+)
+from physics.registry import register as register_model
+from physics.scenario.defaults import default_scenario
+from physics.scenario.edit import edit_dict
+from physics.scenario.initial import initial_G
+from physics.scenario.meta import BASE_FOLDERS, BASE_PARAMS, base_values
+from physics.scenario.params import Body, Initial, Run
+from physics.scenario.scenario import Scenario
+from physics.stepping.live import LiveRun
+from physics.stepping.simulate import simulate
+from physics.stepping.warm import start as build_kernels
+from physics.studies.metrics import METRICS, Metric
+from physics.studies.sweep import SweepTable, axis_values, check_point, numeric_keys, point_scenario, resolve_key, sweep
+from physics.studies.work_precision import Row as WorkPrecisionRow
+from physics.studies.work_precision import WorkPrecision, work_precision
+from physics.systems.carry import CannotCarry, Carried, carry_state
+from physics.systems.choice import choose_fidelity
+from physics.systems.choice import conditions as validity_conditions
+from physics.systems.derived import derived
+from physics.systems.moving_mass import closed
+from physics.systems.moving_mass.coefficients import Coefficients, coefficients
+from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium
+from physics.systems.moving_mass.validity import averaged_conditions
+from physics.systems.pendulum.geometry import resolved_stiffness
 
 __all__ = [
     "Body", "BuildStatus", "CannotCarry", "Carried", "build_kernels", "kernel_status",
@@ -37,6 +56,11 @@ __all__ = [
     "METRICS", "Metric", "REGISTRY", "Run", "Scenario", "ScenarioError", "SweepTable", "Trajectory", "ValidityWarning",
     "averaged_conditions", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "sweep",
     "carry_state", "choose_fidelity", "closed", "resolved_stiffness", "coefficients", "default_scenario", "derived",
-    "get_model", "initial_G",
+    "get_model", "get_system", "initial_G", "load_builtin", "Param", "register_model", "register_system", "System",
+    "SYSTEMS", "Table", "unregister_system",
+    "BASE_FOLDERS", "BASE_PARAMS", "base_values", "edit_dict", "IDENTITY", "qconj", "qmul", "rotate",
+    "rotation_matrix",
     "simulate", "validity_conditions", "WorkPrecision", "WorkPrecisionRow", "work_precision",
 ]
+
+load_builtin()  # every system folder registers its system and models

@@ -11,7 +11,7 @@ def _interrupted():
 
 
 try:
-    from .cli import main  # inside: Ctrl-C while numba loads its cache is an interrupt, not a traceback
+    from physics.cli import main  # inside: Ctrl-C while numba loads its cache is an interrupt, not a traceback
 
     sys.exit(main())
 except BrokenPipeError:  # output piped into `head` and closed early: not an error worth a traceback

@@ -17,14 +17,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .blame import guarded
-from .defaults import default_scenario
-from .derived import derived
-from .errors import IntegrationFault, NumericalFault, ScenarioError
-from .info_text import as_json, text_lines
-from .params import FIDELITIES, METHODS
-from .scenario import Scenario
-from .simulate import simulate
+from physics.core.blame import guarded
+from physics.core.errors import IntegrationFault, NumericalFault, ScenarioError
+from physics.info_text import as_json, text_lines
+from physics.scenario.defaults import default_scenario
+from physics.scenario.params import FIDELITIES, METHODS
+from physics.scenario.scenario import Scenario
+from physics.stepping.simulate import simulate
+from physics.systems.derived import derived
 
 
 class _Parser(argparse.ArgumentParser):

@@ -1,4 +1,4 @@
-"""Fidelity "auto" against a requested accuracy (issue 5, physics/accuracy.py): the cheapest model
+"""Fidelity "auto" against a requested accuracy (issue 5, physics/systems/moving_mass/accuracy.py): the cheapest model
 whose measured error bound meets run.accuracy, checked against the full model."""
 
 import json
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import physics
-from bench.problems import moving_mass
-from physics.validity import choose_fidelity
+from physics.reference.problems import moving_mass
+from physics.systems.choice import choose_fidelity
 
 TOL = 1e-3  # rad, the requested theta accuracy of these scenarios
 HORIZON = 1500.0  # s: long enough for the nutation to move, short enough for the full model
@@ -51,7 +51,7 @@ def test_chosen_model_meets_the_requested_accuracy(eps, C, theta0, tol):
 # ---- auto says why: physics.derived and `python -m physics info` ---------------------------------
 
 def test_derived_names_the_averaged_choice_its_bound_and_the_request():
-    from physics.accuracy import averaged_error_bound
+    from physics.systems.moving_mass.accuracy import averaged_error_bound
 
     sc = _with_accuracy(moving_mass(0.01, t_end=100.0))
     d = physics.derived(sc)
@@ -79,7 +79,7 @@ def test_derived_without_a_requested_accuracy_says_so():
 
 
 def test_pendulum_scenarios_name_model_and_method():
-    from bench.problems import p4
+    from physics.reference.problems import p4
 
     d = physics.derived(p4(1.0))
     assert d["auto_model"] == f"spherical_pendulum/{d['auto_fidelity']}"

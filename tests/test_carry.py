@@ -1,5 +1,5 @@
 """A parameter or fidelity change keeps the inertial angular momentum K, the attitude and the internal
-displacement (physics/carry.py through LiveRun.retune; issue 13 point 1)."""
+displacement (physics/systems/carry.py through LiveRun.retune; issue 13 point 1)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import physics
-from physics.carry import CannotCarry, carry_state, state_names
-from physics.live import LiveRun
+from physics.stepping.live import LiveRun
+from physics.systems.carry import CannotCarry, carry_state, state_names
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
 
@@ -193,7 +193,7 @@ def test_full_to_averaged_and_back_keeps_K_and_attitude(tables):
     if run.scenario.initial.mass_state == "rest":
         assert np.all(u == 0.0)
     else:
-        from physics.models.moving_mass import quasi_static_displacement
+        from physics.systems.moving_mass.models import quasi_static_displacement
 
         u_qs, v_qs = quasi_static_displacement(run.scenario, run.y[:3])
         np.testing.assert_allclose(u, np.concatenate([u_qs, v_qs]), atol=1e-9)
@@ -213,7 +213,8 @@ def test_from_the_closed_form_keeps_its_K_and_attitude():
 
 
 def test_to_the_closed_form_it_restarts_at_t_with_K_and_attitude_kept():
-    """Full -> closed: the closed form goes on from the present K and attitude (physics/closed_restart.py);
+    """Full -> closed: the closed form goes on from the present K and attitude (physics/systems/moving_mass/
+    closed_restart.py);
     its theta then follows the averaged model carried from the same state, its K stays fixed in space."""
     run = started(CLOSED_OK)
     K0, q0, t0 = run.momentum(), run.last.quat[0].copy(), run.t

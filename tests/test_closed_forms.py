@@ -1,10 +1,11 @@
 """Closed forms of MODELS.md Part A against numerical integration of their own averaged ODEs.
 
-The averaged equations are written here again as plain numpy right-hand sides, independently of the
-model code: seed 004 eq. (1), seed 000 eqs. (2.5) and (3.2). They are integrated with DOP853 at
-rtol = 1e-13, and theta is taken from G = J* w. Coefficients are chosen large (F, D, H ~ 0.01-0.05 with
-A ~ 1) so that theta moves by 0.2-1 rad in a few tens of revolutions: the closed forms are exact solutions
-of the averaged equations for any coefficient size, and short runs keep the reference accurate.
+The averaged equations are plain numpy right-hand sides written independently of the model code
+(physics/reference/averaged_equations.py): seed 004 eq. (1), seed 000 eqs. (2.5) and (3.2). They are
+integrated with DOP853 at rtol = 1e-13, and theta is taken from G = J* w. Coefficients are chosen large (F,
+D, H ~ 0.01-0.05 with A ~ 1) so that theta moves by 0.2-1 rad in a few tens of revolutions: the closed forms
+are exact solutions of the averaged equations for any coefficient size, and short runs keep the reference
+accurate.
 """
 
 from __future__ import annotations
@@ -13,11 +14,11 @@ import math
 
 import numpy as np
 import pytest
-from reference_equations import rhs_004
 from scipy.integrate import quad, solve_ivp
 
-from physics import closed as cf
-from physics.coefficients import Coefficients
+from physics.reference.averaged_equations import coefficients_26, rhs_004, rhs_25, rhs_32
+from physics.systems.moving_mass import closed as cf
+from physics.systems.moving_mass.coefficients import Coefficients
 
 ANGLE_TOL = 1e-9  # rad: closed-form angle vs numerical integration of its averaged ODE
 REL_TOL = 1e-9  # relative (to the run's largest value): G, T, N, |w|
@@ -25,30 +26,6 @@ INTEGRAL_REL_TOL = 1e-13  # relative: I_n against adaptive quadrature, which is 
 QUAD_EPSREL = 1.2e-14  # the smallest relative tolerance scipy's quad accepts (50 eps)
 ODE_RTOL = 1e-13
 ODE_ATOL = 1e-24  # tiny: braking runs end with |w| ~ 1e-9, where any larger atol would dominate
-
-
-# ---- the averaged equations, independently of physics/ -----------------------------------------------
-
-def rhs_25(t, w, A, C, F, Bq0):
-    """Seed 000 eq. (2.5), quadratic friction: A_c = F K^2/A, B = Bq0 w_perp (MODELS.md A.3)."""
-    w1, w2, w3 = w
-    wp2 = w1 * w1 + w2 * w2
-    d = 1.0 - C / A
-    Ac = F * (A * A * wp2 + C * C * w3 * w3) / A
-    B = Bq0 * math.sqrt(wp2)
-    return [(d + Ac) * w2 * w3 + B * w1 * w3**6, -(d + Ac) * w1 * w3 + B * w2 * w3**6, -B * (A / C) ** 2 * wp2 * w3**5]
-
-
-def rhs_32(t, w, A, C, F, N, b):
-    """Seed 000 eq. (3.2) as corrected (w3^4, w3^3; MODELS.md A.6 seed 000 item 7), control u = -K/|K|."""
-    w1, w2, w3 = w
-    wp2 = w1 * w1 + w2 * w2
-    d = 1.0 - C / A
-    K = math.sqrt(A * A * wp2 + C * C * w3 * w3)
-    Ac = F * K * K / A
-    return [(d + Ac) * w2 * w3 - b * w1 / K + N * w1 * w3**4,
-            -(d + Ac) * w1 * w3 - b * w2 / K + N * w2 * w3**4,
-            -b * w3 / K - N * (A / C) ** 2 * wp2 * w3**3]
 
 
 def integrate(rhs, w0, t, args, **kw):
@@ -310,7 +287,7 @@ def test_quadratic_friction_matches_eq25(name):
     assert abs(gamma - c["gamma"]) < 1e-15
     t = np.linspace(0, c["t_end"], 2001)  # fine enough to unwrap the numerical phase
     w0 = [K * math.sin(th0) * math.cos(ph0) / A, K * math.sin(th0) * math.sin(ph0) / A, K * math.cos(th0) / C]
-    w = integrate(rhs_25, w0, t, (A, C, F, Bq0)).y
+    w = integrate(rhs_25, w0, t, (A, C, *coefficients_26(A, C, F, Bq0))).y
     theta = cf.quadratic_friction_theta(t, th0, gamma)
     assert abs(theta[-1] - th0) > 0.2  # the run moves theta for real
     assert np.max(np.abs(theta - nutation_of(w, A, C))) < ANGLE_TOL
@@ -481,9 +458,10 @@ def _attitude_reference_25(co, t):
     """Seed 000 eq. (2.5) with q' = 1/2 q (x) (0, w), from quat(0) = identity."""
     A, C = co.A, co.C
     w0 = [co.G0 * math.sin(co.theta0) / A, 0.0, co.G0 * math.cos(co.theta0) / C]
+    Ac_of, B_of = coefficients_26(A, C, co.F, co.Bq0)
 
     def rhs(s, y):
-        return rhs_25(s, y[:3], A, C, co.F, co.Bq0) + [0.5 * v for v in _qmul(y[3:], [0.0, *y[:3]])]
+        return rhs_25(s, y[:3], A, C, Ac_of, B_of) + [0.5 * v for v in _qmul(y[3:], [0.0, *y[:3]])]
     return integrate(rhs, w0 + [1.0, 0.0, 0.0, 0.0], t, ()).y
 
 
@@ -495,7 +473,7 @@ def test_closed_state_quadratic_friction_matches_eq25():
     t = np.linspace(0, 60, 301)
     st = cf.closed_form_state(t, co)
     w0 = [K * math.sin(th0) / A, 0.0, K * math.cos(th0) / C]
-    w = integrate(rhs_25, w0, t, (A, C, F, Bq0)).y
+    w = integrate(rhs_25, w0, t, (A, C, *coefficients_26(A, C, F, Bq0))).y
     assert np.max(np.abs(st["omega"] - w.T)) < REL_TOL * np.max(np.abs(w))
     assert np.max(np.abs(st["theta"] - nutation_of(w, A, C))) < ANGLE_TOL
     np.testing.assert_allclose(st["quat"][0], [1.0, 0.0, 0.0, 0.0], atol=1e-15)

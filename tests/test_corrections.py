@@ -1,12 +1,12 @@
 """The corrections of MODELS.md Part A section 6, with evidence.
 
 For each misprint that touches an implemented formula, the corrected form (the product code in
-physics/closed*.py) matches numerical integration of the averaged equations, and the printed form does
-not: its measured discrepancy is asserted to exceed a stated margin. The printed forms are written here,
-as read in the OCR text of the seeds, and only here: they are evidence, not product.
+physics/systems/moving_mass/closed*.py) matches numerical integration of the averaged equations, and the
+printed form does not: its measured discrepancy is asserted to exceed a stated margin. The printed forms are
+written here, as read in the OCR text of the seeds, and only here: they are evidence, not product.
 
-The averaged equations (seed 004 eq. (1), seed 000 eqs. (2.5), (3.2)) are written again in this file,
-independently of physics/.
+The averaged equations (seed 004 eq. (1), seed 000 eqs. (2.5), (3.2)) are those of
+physics/reference/averaged_equations.py, written independently of the model code.
 """
 
 from __future__ import annotations
@@ -15,38 +15,16 @@ import math
 
 import numpy as np
 import pytest
-from reference_equations import rhs_004
 from scipy.integrate import solve_ivp
 
-from physics import closed as cf
+from physics.reference.averaged_equations import rhs_004, rhs_25, rhs_32
+from physics.systems.moving_mass import closed as cf
 
 ANGLE_TOL = 1e-9  # rad: corrected closed form vs numerical integration
 REL_TOL = 1e-9  # relative
 ODE_RTOL = 1e-13
 ODE_ATOL = 1e-24
 STOP_FRACTION = 1e-9  # braking runs are compared up to T (1 - 1e-9)
-
-
-def rhs_25(t, w, A, C, Ac_of, B_of):
-    """Seed 000 eq. (2.5); A_c and B are passed as functions of w so that printed (2.6) can be swapped in."""
-    w1, w2, w3 = w
-    wp2 = w1 * w1 + w2 * w2
-    d = 1.0 - C / A
-    Ac, B = Ac_of(w), B_of(w)
-    return [(d + Ac) * w2 * w3 + B * w1 * w3**6, -(d + Ac) * w1 * w3 + B * w2 * w3**6, -B * (A / C) ** 2 * wp2 * w3**5]
-
-
-def rhs_32(t, w, A, C, F, N, b, e12=4, e3=3):
-    """Seed 000 eq. (3.2); corrected exponents w3^4, w3^3 (MODELS.md A.6 seed 000 item 7), printed: 2, 2."""
-    w1, w2, w3 = w
-    wp2 = w1 * w1 + w2 * w2
-    d = 1.0 - C / A
-    K = math.sqrt(A * A * wp2 + C * C * w3 * w3)
-    Ac = F * K * K / A
-    control = b / K if b else 0.0
-    return [(d + Ac) * w2 * w3 - control * w1 + N * w1 * w3**e12,
-            -(d + Ac) * w1 * w3 - control * w2 + N * w2 * w3**e12,
-            -control * w3 - N * (A / C) ** 2 * wp2 * w3**e3]
 
 
 def integrate(rhs, w0, t, args=(), **kw):

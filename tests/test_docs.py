@@ -11,7 +11,8 @@ path into a repository folder (``docs/img/...``) reaches the repository, so such
 - ``bash``/``sh``/``shell`` blocks: each line (``\\`` continues it) is split at ``&&`` into commands; a
   ``console`` block's commands are its lines starting with ``$``. Each command must exit 0, except that:
   - ``python -m app ...`` (or any command of a block annotated ``server``) is a server: it is started, must
-    print ``ready`` within the timeout, and is then terminated. ``--port 0`` is added when no port is given,
+    print ``ready`` within the timeout, and is then terminated; ``python -m app record ...`` writes a file and
+    exits, so it runs as any command. ``--port 0`` is added when no port is given,
     so it never collides with an explorer already running.
   - ``pip install ARGS`` (also ``python -m pip``) is not executed: ``pip install --dry-run --no-deps ARGS``
     runs from the repository root instead (it builds the package metadata, so a broken pyproject.toml or a
@@ -281,7 +282,7 @@ def run_command(cmd: str, block: Block, cwd: Path) -> None:
         return
     if is_install(words):
         install_check(words, max(timeout, 120.0))
-    elif "server" in dict(block.options) or words[:3] == ["python", "-m", "app"]:
+    elif "server" in dict(block.options) or (words[:3] == ["python", "-m", "app"] and words[3:4] != ["record"]):
         serve(cmd, cwd, float(block.opt("timeout", SERVER_TIMEOUT)), block.opt("ready", READY))
     elif words[:3] == ["python", "-m", "pytest"]:
         run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider", *words[3:]], ROOT,

@@ -17,8 +17,8 @@ import pytest
 
 import physics
 from physics import IntegrationFault, LiveRun, Scenario, ScenarioError
-from physics.closed import braking_time
-from physics.live import BRAKED, FAULT, RUNNING
+from physics.stepping.live import BRAKED, FAULT, RUNNING
+from physics.systems.moving_mass.closed import braking_time
 
 TIME_TOL = 1e-6  # relative, on the braking time T
 
@@ -122,7 +122,7 @@ def test_too_stiff_for_the_explicit_integrator_through_live_run():
 def test_stiffness_is_found_when_the_steps_come_in_small_calls():
     """The explorer asks for a few milliseconds' worth of steps per frame, so no single call runs out of
     steps: the check runs every MAX_STEPS_PER_CALL steps however they were split."""
-    from physics.live import MAX_STEPS_PER_CALL
+    from physics.stepping.live import MAX_STEPS_PER_CALL
 
     run = LiveRun(Scenario.from_dict(STIFF_LIVE))
     for _ in range(400):

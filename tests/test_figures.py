@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from bench import figures as F
-from physics import closed as cf
+from physics.systems.moving_mass import closed as cf
+from physics.systems.moving_mass.closed004 import braking_tau_24, nutation_curve_24
 
 ANGLE_TOL = 1e-9  # rad: closed form against its own numerical integration
 FULL_TOL = 0.02  # rad: full model against the averaged closed forms at eps ~ 0.1 (O(eps^2), MODELS A.7)
@@ -102,7 +103,7 @@ def test_004_fig2_theta_never_increases_for_k_star_above_1(d004):
     tau, th = d004["figs"][2][(1.0, 1.0, 5.0)]
     assert np.all(np.diff(th) <= 1e-15) and th[-1] < F.THETA0_004
     for k in (1.5, 2.0, 5.0, 20.0):
-        tau, th = F.curve_24(1.0, 1.0, k, n=200)
+        tau, th = nutation_curve_24(F.THETA0_004, 1.0, 1.0, k, n=200)
         assert np.all(np.diff(th) <= 1e-15)
 
 
@@ -146,7 +147,7 @@ def test_004_physical_counterparts_match_the_full_model(d004_physical):
         for e in panel:
             if e["full"] is not None:
                 assert np.max(np.abs(e["full"]["theta"] - e["full"]["closed"])) < FULL_TOL
-                assert abs(e["full"]["tau"][-1] - F.tau_stop(e["k_star"])) < 0.02 * F.tau_stop(e["k_star"])
+                assert abs(e["full"]["tau"][-1] - braking_tau_24(e["k_star"])) < 0.02 * braking_tau_24(e["k_star"])
                 checked += 1
     assert checked >= 2
 

@@ -137,11 +137,47 @@ def full_model_gap(shape: str) -> float:
                for tau, theta in curve(PHYSICAL, f"Fig.1 {shape} curve 1 full model") if tau <= end_tau)
 
 
+def frequency_shift() -> float:
+    """The largest shift, rad/s, of lambda_1 and lambda_2 when eq. (6) takes the paper's m instead of mu."""
+    return max(abs(q[1] - p[1]) for name in ("lambda1", "lambda2")
+               for p, q in zip(curve(FREQUENCIES, name), curve(FREQUENCIES, name + "_m"), strict=True))
+
+
+def omega0_ratio() -> float:
+    """omega_0 with the paper's m over omega_0 with mu: lambda_1 at W = 0 (= omega_0) of each series."""
+    (with_m,) = [y for x, y in curve(FREQUENCIES, "lambda1_m") if x == 0.0]
+    (with_mu,) = [y for x, y in curve(FREQUENCIES, "lambda1") if x == 0.0]
+    return with_m / with_mu
+
+
+def resonance_gaps() -> dict[float, float]:
+    """Each full-model point's distance from the linear curve at its tuning, % of the linear decay time."""
+    linear = dict(curve(RESONANCE, "linear"))
+    return {x: 100 * abs(tau - linear[x]) / linear[x] for x, tau in curve(RESONANCE, "full model")}
+
+
+def averaged_exponent() -> float:
+    """The averaged theory's slowest decay rate (MODELS B.6), 1/s, on set R as bench/figures.py builds it."""
+    from physics.reference.problems import set_R
+    from physics.systems.pendulum import averaged
+
+    return averaged.AveragedCoefficients(averaged.spherical_linear(averaged.pendulum_system(set_R()))).slowest_rate()
+
+
+def linear_exponent() -> float:
+    """Linear theory's slowest decay rate (B.3's exact characteristic polynomial), 1/s, on set R."""
+    import physics
+    from physics.reference.problems import set_R
+
+    return float(physics.derived(set_R())["decay_rate_linear"])
+
+
 # docs/figures.md's data (python -m bench figures), named from docs/ as the page links them
 FIG1 = "img/seed000_fig1.csv"
 FIGS4 = "img/seed004_figs1-4.csv"
 KSTAR = "img/seed004_final_vs_kstar.csv"
 PHYSICAL = "img/seed004_physical.csv"
+FREQUENCIES = "img/seed002_frequencies.csv"
 RESONANCE = "img/seed002_resonance.csv"
 AVERAGED = "img/seed002_averaged_vs_full.csv"
 FLAT = "img/explorer1_flat_spin.csv"
@@ -161,14 +197,14 @@ SCALING_ROWS = [
 
 # (page, pattern with one group: the figure as shown, results file, how to compute it from the file)
 FIGURES = [
-    # the explorer's warm start (python bench/explorer_startup.py 10 --compare-env-map; as shipped: env_map False)
+    # the explorer's warm start (python -m bench explorer-startup 10 --compare-env-map; as shipped: env_map False)
     ("README.md", r"browser \((\d+\.\d+) s median, [\d.]+ s at most, over \d+ warm launches", STARTUP,
      lambda: median(STARTUP, "scene_drawn_s", env_map="False")),
     ("README.md", r"s median, (\d+\.\d+) s at most, over \d+ warm launches", STARTUP,
      lambda: max(col(STARTUP, "scene_drawn_s", env_map="False"))),
     ("README.md", r"s at most, over (\d+) warm launches", STARTUP,
      lambda: len(col(STARTUP, "scene_drawn_s", env_map="False"))),
-    # first starts (python bench/explorer_startup.py --cold --inline), one run
+    # first starts (python -m bench explorer-startup --cold --inline), one run
     ("README.md", r"moving scene after (\d+\.\d+) s median cold", COLD, lambda: median(COLD, "moving_s", cache="cold")),
     ("README.md", r"median cold against (\d+\.\d+) s warm", COLD, lambda: median(COLD, "moving_s", cache="warm")),
     ("README.md", r"s warm, a ratio of (\d+\.\d+)", COLD,
@@ -182,7 +218,7 @@ FIGURES = [
     ("README.md", r"3 launches each, load average \d+-(\d+)\)", COLD, lambda: max(col(COLD, "load1"))),
     ("README.md", r"compiled kernels took over (\d+\.\d+) s after a cold start", COLD,
      lambda: median(COLD, "fast_integrator_s", cache="cold")),
-    # the explorer's rates (python bench/explorer_rates.py)
+    # the explorer's rates (python -m bench explorer-rates)
     ("README.md", r"about 1: (\d+\.\d+) frames published per s at 1x", RATES,
      lambda: rate("frames published per s at 1x")),
     ("README.md", r"frames published per s at 1x,\s+(\d+\.\d+) at 1000x", RATES,
@@ -262,6 +298,10 @@ FIGURES = [
        (lambda n=n: end(PHYSICAL, f"Fig.1 prolate curve {n}"))) for i, n in enumerate((1, 2, 3))],
     (F, r"They follow eq. \(24\) to (\d+\.\d+) rad \(oblate", PHYSICAL, lambda: full_model_gap("oblate")),
     (F, r"rad \(oblate, eps = [\d.]+\) and (\d+\.\d+) rad \(prolate", PHYSICAL, lambda: full_model_gap("prolate")),
+    (F, r"`k/\(m l\^2\)` is (\d+) % below", FREQUENCIES, lambda: 100 * (1 - omega0_ratio() ** 2)),
+    (F, r"shifts both curves by (\d+\.\d+) rad/s", FREQUENCIES, frequency_shift),
+    (F, r"shifts both curves by [\d.]+ rad/s, (\d+\.\d+) % of omega_0", FREQUENCIES,
+     lambda: 100 * (1 - omega0_ratio())),
     (F, r"The minimum is at `omega_0/omega_0,res = (\d+\.\d+)`", RESONANCE, lambda: resonance_minimum(0)),
     (F, r"`omega_0/omega_0,res = [\d.]+` \((\d+\.\d+) s\)", RESONANCE, lambda: resonance_minimum(1)),
     (F, r"At 0.7 and 1.5 the decay takes (\d+) s", RESONANCE, lambda: dict(curve(RESONANCE, "linear"))[0.7]),
@@ -269,9 +309,14 @@ FIGURES = [
      lambda: dict(curve(RESONANCE, "linear"))[1.5]),
     *[(F, rf"of linear theory: {LIST * i}(\d+\.\d+),? [\d., and]*s at 0.75, 0.9", RESONANCE,
        (lambda r=r: full_point(r))) for i, r in enumerate((0.75, 0.9, 1.0, 1.1, 1.3))],
+    (F, r"The full-model points lie within (\d+\.\d+) % \(at resonance", RESONANCE,
+     lambda: max(resonance_gaps().values())),
     (F, r"the two agree to (\d+\.\d+) % of theta0", AVERAGED, lambda: 100 * averaged_gap()),
     (F, r"the averaged rate is (\d+\.\d+) 1/s", AVERAGED, lambda: decay_rate("eps=1 averaged")),
     (F, r"against the full model's (\d+\.\d+) 1/s", AVERAGED, lambda: decay_rate("eps=1 full")),
+    # not a results file: B.6's exponents are a quadratic's roots, computed here as the page names them
+    (F, r"slowest exponent itself is (\d+\.\d+) 1/s", "AveragedCoefficients.slowest_rate", averaged_exponent),
+    (F, r"and linear theory's exact one (\d+\.\d+) 1/s", "decay_rate_linear", linear_exponent),
     (F, r"Over (\d+) s the nutation angle", FLAT, lambda: curve(FLAT, "theta_rad")[-1][0]),
     (F, r"the nutation angle rises from (\d+\.\d+)", FLAT, lambda: curve(FLAT, "theta_rad")[0][1]),
     (F, r"the nutation angle rises from [\d.]+ to (\d+\.\d+) rad", FLAT, lambda: end(FLAT, "theta_rad")),
@@ -314,9 +359,16 @@ def test_shown_tolerance_is_half_the_last_digit():
     assert shown_tolerance("80023") == pytest.approx(0.5)
 
 
+def test_the_resonance_curve_s_largest_gap_is_at_resonance():
+    # docs/figures.md: "within 0.81 % (at resonance; closer elsewhere)"
+    gaps = resonance_gaps()
+    assert max(gaps, key=gaps.get) == 1.0, gaps
+
+
 def test_explorer_rates_has_its_meta_and_chart_and_no_stray_copy():
     meta = json.loads((ROOT / "bench/results/explorer_rates.meta.json").read_text())
-    assert meta["command"].startswith("python bench/explorer_rates.py")
+    # the study's two spellings (the subcommand, and the script the results file was first written by)
+    assert meta["command"].startswith(("python -m bench explorer-rates", "python bench/explorer_rates.py"))
     assert "machine" in meta  # null only for the run made before the script recorded it
     assert (ROOT / "docs/img/explorer_rates.png").stat().st_size > 0
     assert not (ROOT / "bench/explorer_rates.csv").exists(), "the results belong in bench/results/"

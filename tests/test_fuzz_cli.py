@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from physics import cli
-from physics.params import FIDELITIES, METHODS
+from physics.scenario.params import FIDELITIES, METHODS
 
 ROOT = Path(__file__).resolve().parent.parent
 GOOD_FILE = str(ROOT / "assets" / "scenarios" / "oblate_settling.toml")

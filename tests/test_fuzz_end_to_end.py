@@ -22,8 +22,8 @@ import pytest
 from physics import IntegrationFault, Scenario, ScenarioError, derived, simulate
 from tests.fuzz_scenarios import generate
 
-SIM = importlib.import_module("physics.simulate")
-AVERAGED = importlib.import_module("physics.pendulum_averaged")
+SIM = importlib.import_module("physics.stepping.simulate")
+AVERAGED = importlib.import_module("physics.systems.pendulum.averaged")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SMALL = dict(MAX_STEPS=20_000, STEPS_PER_CALL=2_000, MAX_OUTPUT_BYTES=2_000_000, MAX_SCIPY_EVALS=20_000)
 MAX_MESSAGE = 600  # characters: one readable line

@@ -11,8 +11,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from physics import Scenario, ScenarioError
-from physics.params import FIDELITIES, LAWS, METHODS
-from physics.params_pendulum import PRESETS
+from physics.scenario.params import FIDELITIES, METHODS
+from physics.systems.moving_mass.params import LAWS
+from physics.systems.pendulum.params import PRESETS
 
 EXAMPLES = 1_000
 

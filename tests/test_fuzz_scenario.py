@@ -21,7 +21,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from physics import Scenario, ScenarioError
-from physics.scenario import SECTIONS, _toml_names
+from physics.scenario.scenario import _toml_names, sections
+
+SECTIONS = sections()  # every registered table
 
 ROOT = Path(__file__).resolve().parent.parent
 TEMPLATE_FILES = sorted((ROOT / "assets" / "scenarios").glob("*.toml")) + [ROOT / "physics" / "data" / "default.toml"]

@@ -20,10 +20,10 @@ import pytest
 
 import physics
 from physics import IntegrationFault, Scenario, ScenarioError
-from physics.errors import NumericalFault, _show
+from physics.core.errors import NumericalFault, _show
 
 ROOT = Path(__file__).resolve().parents[1]
-SIM = importlib.import_module("physics.simulate")
+SIM = importlib.import_module("physics.stepping.simulate")
 DEFAULT = (ROOT / "physics" / "data" / "default.toml").read_text()
 MASS = {"body": {"A": 1.0, "C": 1.4, "M": 1.0}, "mass": {"m": 0.2, "rho": 1.5, "Omega": 5.0, "chi": 5.0},
         "initial": {"G0": 3.0, "theta0": 0.8}, "run": {"t_end": 5.0, "samples": 11}}
@@ -167,7 +167,7 @@ def test_a_fixed_step_run_beyond_the_step_budget_is_refused_before_stepping(monk
 
 
 def test_simulate_finds_stiffness_as_live_run_does():
-    from physics.live import MAX_STEPS_PER_CALL
+    from physics.stepping.live import MAX_STEPS_PER_CALL
 
     sc = Scenario.from_dict(_with(MASS, mass__Omega=1e7, mass__chi=1e7, run__fidelity="full", run__t_end=20.0))
     with pytest.raises(IntegrationFault, match="too stiff for the explicit integrator") as info:
@@ -216,7 +216,7 @@ def test_the_e_folding_time_of_plane_pendulums_takes_few_matrix_exponentials(mon
 def test_even_grid_propagation_matches_one_exponential_per_sample():
     from scipy.linalg import expm
 
-    from physics.linear_propagate import propagate
+    from physics.systems.pendulum.propagate import propagate
 
     S = np.array([[-0.01, 1.0, 0.0], [-1.0, -0.01, 0.3], [0.0, -0.3, -0.2]])
     t = np.linspace(0.0, 400.0, 3001)
@@ -286,7 +286,7 @@ def test_an_argument_with_a_newline_is_echoed_on_one_line(capsys):
 
 def test_a_scene_with_too_many_plane_pendulums_is_refused_naming_the_table():
     """200 plane pendulums in a 20 kB upload took 5-13 s a frame in the explorer (issue 17)."""
-    from physics.scenario import MAX_PLANE_PENDULUMS
+    from physics.systems.pendulum.system import MAX_PLANE_PENDULUMS
 
     def scene(n):
         return {"body": {"A": 1.0, "C": 1.4, "M": 10.0},

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import physics
-from bench import problems as P
 from physics.compiled import dispatch, dop853, fixed, midpoint
-from physics.errors import ScenarioError
+from physics.core.errors import ScenarioError
+from physics.reference import problems as P
 
 ORDER_SLACK = 0.3  # measured order within this of the nominal one (issue 5)
 OMEGA_TOL = 1e-8  # rad/s, compiled DOP853 vs scipy DOP853 at rtol 1e-12

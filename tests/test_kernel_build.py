@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 import physics
-from physics import kernel_build
 from physics.compiled import dispatch, dop853
-from physics.interpreted import twin
-from physics.live import RUNNING
+from physics.kernels import build as kernel_build
+from physics.kernels.interpreted import twin
+from physics.stepping.live import RUNNING
 
 FRAME = 1 / 60  # what the explorer asks for per frame at 1x
 SAMPLES = 8
@@ -138,7 +138,7 @@ def test_a_failed_build_says_why_and_leaves_the_compiled_path_on(fresh_build):
 
 PENDING_SESSION = """
 import sys
-from physics import kernel_build
+from physics.kernels import build as kernel_build
 kernel_build._BUILD.state = kernel_build.PENDING  # as while the child builds
 from app.engine import Engine
 e = Engine()

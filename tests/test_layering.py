@@ -6,7 +6,7 @@ import sys
 
 def test_physics_imports_no_gui():
     code = (
-        "import sys, physics, physics.cli, physics.closed\n"
+        "import sys, physics, physics.cli, physics.systems.moving_mass.closed\n"
         "bad = sorted(m for m in sys.modules if m.split('.')[0] in ('viser', 'app'))\n"
         "print(','.join(bad))\n"
     )

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import physics
-from physics.live import BRAKED, FAULT, RUNNING, LiveRun
+from physics.stepping.live import BRAKED, FAULT, RUNNING, LiveRun
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
 

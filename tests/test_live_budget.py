@@ -4,7 +4,7 @@ integrate a whole frame's worth (1.7e10 steps) in one call, freezing the tab and
 from __future__ import annotations
 
 import physics
-from physics.live import MAX_STEPS_PER_CALL
+from physics.stepping.live import MAX_STEPS_PER_CALL
 
 
 def _tiny_step():

@@ -41,9 +41,19 @@ SCENARIOS = {
 MODELS = sorted(physics.REGISTRY)
 
 
+def battery_scenario(system: str) -> physics.Scenario:
+    """The system's scenario above, or, for a system registered elsewhere (a toy in a test), its own example
+    with the battery's run settings."""
+    if system in SCENARIOS:
+        return physics.Scenario.from_dict(SCENARIOS[system])
+    data = physics.Scenario.from_toml(physics.get_system(system).example).to_dict()
+    data["run"] = {"t_end": 30.0, "samples": 61}
+    return physics.Scenario.from_dict(data)
+
+
 def _run(name):
     model = physics.REGISTRY[name]
-    sc = physics.Scenario.from_dict(SCENARIOS[model.system])
+    sc = battery_scenario(model.system)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", physics.ValidityWarning)
         return physics.simulate(sc, fidelity=model.fidelity), sc

@@ -1,5 +1,5 @@
 """The project's full model (MODELS.md A.2) against an independent engine: MuJoCo's multibody
-model of the same carrier and point mass (bench/mujoco_moving_mass.py, checked on its own in
+model of the same carrier and point mass (physics/reference/mujoco_moving_mass.py, checked on its own in
 tests/test_mujoco_engine.py). MuJoCo's RK4 step is chosen so that halving it moves MuJoCo's own
 theta by less than MUJOCO_SELF_TOL; the finer of the two runs is the reference.
 """
@@ -12,7 +12,7 @@ import pytest
 mujoco = pytest.importorskip("mujoco")
 
 import physics  # noqa: E402
-from bench import mujoco_moving_mass as mm  # noqa: E402
+from physics.reference import mujoco_moving_mass as mm  # noqa: E402
 
 ANGLE_TOL = 1e-7  # rad
 MUJOCO_SELF_TOL = 1e-9  # rad, theta change when MuJoCo's step is halved

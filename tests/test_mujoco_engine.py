@@ -1,4 +1,4 @@
-"""The MuJoCo model of bench/mujoco_moving_mass.py on its own: the conventions it relies on, its
+"""The MuJoCo model of physics/reference/mujoco_moving_mass.py on its own: the conventions it relies on, its
 conservation laws, a torque-free limit, and the order of MuJoCo's RK4. It is trusted as a
 cross-check of the project's full model (tests/test_mujoco_agreement.py) only because these pass.
 """
@@ -11,7 +11,7 @@ from scipy.integrate import solve_ivp
 
 mujoco = pytest.importorskip("mujoco")
 
-from bench import mujoco_moving_mass as mm  # noqa: E402
+from physics.reference import mujoco_moving_mass as mm  # noqa: E402
 
 # Prolate body of MODELS.md A.7 (a), eps = 0.1; one precession period is 2 pi A / G0 = 2 pi s.
 A, B, C, M, m, rho, Omega, chi = 1.0, 1.0, 0.5, 1.0, 0.1, 1.5, 10.0, 10.0

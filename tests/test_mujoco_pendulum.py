@@ -1,5 +1,5 @@
 """The project's full spherical-pendulum model (MODELS.md B.2) against an independent engine:
-MuJoCo's multibody model of the same free carrier and Cardan-hung bob (bench/mujoco_pendulum.py),
+MuJoCo's multibody model of the same free carrier and Cardan-hung bob (physics/reference/mujoco_pendulum.py),
 with the carrier's translation explicit. MuJoCo's RK4 step is chosen so that halving it moves
 MuJoCo's own theta by less than MUJOCO_SELF_TOL; the finer of the two runs is the reference.
 """
@@ -14,8 +14,8 @@ mujoco = pytest.importorskip("mujoco")
 from test_pendulum_full import set_R  # noqa: E402
 
 import physics  # noqa: E402
-from bench import mujoco_pendulum as mp  # noqa: E402
-from physics.pendulum_system import pendulum_system  # noqa: E402
+from physics.reference import mujoco_pendulum as mp  # noqa: E402
+from physics.systems.pendulum.geometry import pendulum_system  # noqa: E402
 
 ANGLE_TOL = 1e-7  # rad, theta project vs MuJoCo
 MUJOCO_SELF_TOL = 1e-9  # rad, theta change when MuJoCo's step is halved

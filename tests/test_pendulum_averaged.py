@@ -1,5 +1,5 @@
 """The averaged spherical-pendulum model (MODELS B.6) against the full model, its O(eps) accuracy, and the
-fidelity choice with the limits of B.10 (physics/pendulum_averaged.py)."""
+fidelity choice with the limits of B.10 (physics/systems/pendulum/averaged.py)."""
 
 from __future__ import annotations
 
@@ -11,10 +11,10 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import physics
-from physics import pendulum_averaged as pa
-from physics import pendulum_linear as pl
-from physics.pendulum_system import pendulum_system
-from physics.validity import choose_fidelity, conditions
+from physics.systems.choice import choose_fidelity, conditions
+from physics.systems.pendulum import averaged as pa
+from physics.systems.pendulum import linear as pl
+from physics.systems.pendulum.geometry import pendulum_system
 
 deg = math.pi / 180
 EPS = [1.0, 1 / 2, 1 / 4, 1 / 8, 1 / 16, 1 / 32]

@@ -11,7 +11,7 @@ import pytest
 
 import physics
 from physics.compiled import pendulum as kernel
-from physics.pendulum_system import pendulum_system
+from physics.systems.pendulum.geometry import pendulum_system
 
 deg = math.pi / 180
 INVARIANT_TOL = 1e-9  # relative drift of the inertial H and of E

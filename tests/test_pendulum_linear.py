@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 import physics
-from physics import pendulum_linear as pl
-from physics import pendulum_linear_general as pg
-from physics.pendulum_system import pendulum_system
-from physics.simulate import integrate
+from physics.stepping.simulate import integrate
+from physics.systems.pendulum import linear as pl
+from physics.systems.pendulum import linear_general as pg
+from physics.systems.pendulum.geometry import pendulum_system
 
 deg = math.pi / 180
 FREQ_TOL = 1e-8  # rad/s: Jacobian eigenvalues against the formulas (finite-difference error ~1e-10)

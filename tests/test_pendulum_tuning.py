@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import physics
-from physics import pendulum_linear as pl
 from physics.cli import main as cli
-from physics.pendulum_system import pendulum_system, resonant_stiffness
+from physics.systems.pendulum import linear as pl
+from physics.systems.pendulum.geometry import pendulum_system, resonant_stiffness
 
 deg = math.pi / 180
 MU = 5.0 * 500.0 / 505.0  # set R's reduced mass, kg

@@ -17,8 +17,9 @@ import pytest
 import physics
 from app import presets
 from bench import figures as F
-from physics import closed as cf
 from physics import initial_G
+from physics.systems.moving_mass import closed as cf
+from physics.systems.moving_mass.closed004 import braking_tau_24, nutation_curve_24
 
 REL_TOL = 1e-12  # relative: a number written to TOML and read back (repr round-trips exactly)
 SHORT_T = 20.0  # s: the short full-model run of each preset
@@ -104,8 +105,8 @@ def test_seed004_presets_lie_on_their_figure_curve(stem):
     _, sc = PRESETS[stem]
     co = physics.coefficients(sc)
     assert co.Gamma1 * co.Gamma2 < 0
-    end = _closed_end(sc.with_values(**{"run.t_end": F.tau_stop(co.k_star) / co.lam}))
-    _, curve = F.curve_24(co.Gamma1, co.Gamma2, co.k_star)
+    end = _closed_end(sc.with_values(**{"run.t_end": braking_tau_24(co.k_star) / co.lam}))
+    _, curve = nutation_curve_24(F.THETA0_004, co.Gamma1, co.Gamma2, co.k_star)
     assert end == pytest.approx(curve[-1], abs=1e-6)
     assert end < F.THETA0_004 - 0.03 if stem.endswith("oblate") else end > F.THETA0_004 + 0.03
 
@@ -119,8 +120,8 @@ def test_seed004_fig1_presets_end_at_the_quoted_angles():
         _, sc = PRESETS[f"seed004_fig1_{shape}"]
         co = physics.coefficients(sc)
         assert co.k_star == pytest.approx(0.1, rel=1e-9)
-        end = _closed_end(sc.with_values(**{"run.t_end": F.tau_stop(0.1) / co.lam}))
-        _, curve = F.curve_24(co.Gamma1, co.Gamma2, co.k_star)
+        end = _closed_end(sc.with_values(**{"run.t_end": braking_tau_24(0.1) / co.lam}))
+        _, curve = nutation_curve_24(F.THETA0_004, co.Gamma1, co.Gamma2, co.k_star)
         assert end == pytest.approx(curve[-1], abs=1e-6)  # the paper's eq. (24)
         assert end == pytest.approx(pinned, abs=ANGLE_TOL)  # the figure page's quoted value still holds
 

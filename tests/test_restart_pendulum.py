@@ -1,5 +1,5 @@
 """The spherical pendulum's averaged solution restarted at t from the present K and attitude, its bob at rest
-(physics/pendulum_restart.py through LiveRun.retune and the explorer's fidelity control; issue 13 point 1)."""
+(physics/systems/pendulum/restart.py through LiveRun.retune and the explorer's fidelity control; issue 13 point 1)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import physics
 from app.edit_report import LABEL
 from app.presets import load_preset
 from app.state import FRAME_HZ, Engine
-from physics.live import LiveRun
-from physics.rotation import qmul, rotate
+from physics.core.rotation import qmul, rotate
+from physics.stepping.live import LiveRun
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
 

@@ -1,4 +1,4 @@
-"""physics.simulate's own promises: output times, progress, methods, fidelity override."""
+"""physics.stepping.simulate's own promises: output times, progress, methods, fidelity override."""
 
 from __future__ import annotations
 

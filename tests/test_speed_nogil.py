@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import physics
-from bench.problems import p2
 from physics.compiled import dispatch, dop853, fixed, midpoint
+from physics.reference.problems import p2
 
 RUN_S = 0.6  # s: the background run is at least this long
 # Turns a Python loop must get while a compiled run works on another thread. Holding the GIL, the run lets it

@@ -1,12 +1,12 @@
-"""The plain numpy right-hand sides of the benchmark's scipy peers (bench/numpy_rhs.py) are the
+"""The plain numpy right-hand sides of the benchmark's scipy peers (physics/reference/numpy_rhs.py) are the
 same equations as the compiled kernels."""
 
 import numpy as np
 import pytest
 
 import physics
-from bench.numpy_rhs import spherical_pendulum_rhs
-from bench.problems import p4
+from physics.reference.numpy_rhs import spherical_pendulum_rhs
+from physics.reference.problems import p4
 
 RATE_TOL = 1e-12  # relative: the same equations, assembled and solved differently
 

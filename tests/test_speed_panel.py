@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 import physics
-from bench.problems import moving_mass
+from physics.reference.problems import moving_mass
 
 pytest.importorskip("plotly")
 from fake_gui import FakeGui  # noqa: E402
@@ -62,7 +62,7 @@ def test_a_failing_sweep_is_a_message_not_an_exception():
 
 
 def test_recommendation_is_refused_after_the_scene_changed_system():
-    from bench.problems import p4
+    from physics.reference.problems import p4
 
     gui, applied = FakeGui(), []
     scenes = [_scene()]

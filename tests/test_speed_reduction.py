@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import physics
-from bench.problems import moving_mass
-from bench.work_precision import averaged_slow_theta
 from physics.compiled import dispatch
+from physics.reference.problems import moving_mass
+from physics.systems.moving_mass.averaged_slow import averaged_slow_theta
 
 RATE_TOL = 1e-12  # relative, rad/s^2: the reduction is the same arithmetic, up to rounding
 THETA_TOL = 1e-8  # rad: both integrated at rtol 1e-12 over ~1000 free-body revolutions
@@ -40,7 +40,7 @@ def test_reduced_rates_are_the_radial_part_of_the_averaged_rates(seed):
         np.linalg.norm(G), rel=1e-15)
 
 
-@pytest.mark.filterwarnings("ignore::physics.errors.ValidityWarning")  # eps = 0.19: moves theta in 4000 s
+@pytest.mark.filterwarnings("ignore::physics.ValidityWarning")  # eps = 0.19: moves theta in 4000 s
 def test_reduced_theta_follows_the_whole_averaged_model():
     sc = moving_mass(0.1, t_end=4000.0, samples=101, rtol=1e-12).with_values(**{"run.fidelity": "averaged"})
     whole = physics.simulate(sc)

@@ -1,4 +1,4 @@
-"""physics.work_precision: the sweep behind the app's "speed vs accuracy" panel (issue 5)."""
+"""physics.studies.work_precision: the sweep behind the app's "speed vs accuracy" panel (issue 5)."""
 
 import threading
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import physics
-from bench.problems import moving_mass, p4
+from physics.reference.problems import moving_mass, p4
 
 ACCURACY = 1e-7  # rad, the requested theta accuracy of the first scenario
 
@@ -75,7 +75,7 @@ def test_cancel_stops_between_runs():
 
 
 def test_models_without_an_integrator_sweep_the_ode_they_solve():
-    from physics.work_precision import _fidelity
+    from physics.studies.work_precision import _fidelity
 
     closed = moving_mass(0.05, t_end=100.0).with_values(**{"run.fidelity": "closed"})
     assert _fidelity(closed) == "averaged"

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import physics
-from physics.metrics import FIT_BAND, decay_time, energy_dissipated, max_displacement
+from physics.studies.metrics import FIT_BAND, decay_time, energy_dissipated, max_displacement
 
-sweep_module = sys.modules["physics.sweep"]  # the name physics.sweep is the function
+sweep_module = sys.modules["physics.studies.sweep"]  # the name physics.sweep is the function
 
 REL_FIT = 1e-9  # relative error of the decay fit on an exact exponential (rounding only)
 ROOT = __import__("pathlib").Path(__file__).resolve().parent.parent

@@ -1,0 +1,63 @@
+"""Errors and warnings that the project raises on purpose.
+
+Every message names the parameter, the value it got and what is allowed, so a user can fix the
+input without reading code (the CLI prints ``str(error)`` and exits with status 2).
+"""
+
+from __future__ import annotations
+
+
+class ScenarioError(ValueError):
+    """Bad input: a key, its value and the allowed range or set."""
+
+    def __init__(self, key: str, value: object, allowed: str):
+        # a key or text of a hundred thousand characters (a fuzzed file) is cut, so the message stays one line
+        self.key = _cut(str(key))
+        self.value = value
+        self.allowed = _cut(str(allowed), MAX_ALLOWED)
+        super().__init__(f"{self.key} = {_show(value)}: {self.allowed}")
+
+
+class ValidityWarning(UserWarning):
+    """A model was asked for outside the conditions under which it is accurate (not an error)."""
+
+
+class IntegrationFault(RuntimeError):
+    """The integrator could not go on (non-finite state, step-size underflow)."""
+
+    def __init__(self, what: str, t: float):
+        self.what = what
+        self.t = t
+        super().__init__(f"{what} at t = {t:.17g}")
+
+
+class NumericalFault(IntegrationFault):
+    """Arithmetic or linear algebra failed on accepted input (an overflow, a singular matrix...): reported
+    as a fault like an integration's, naming the key most likely to blame (physics/core/blame.py)."""
+
+    def __init__(self, what: str, key: str, value: object):
+        RuntimeError.__init__(self, f"{what}; the most extreme value is {_cut(key)} = {_show(value)}: "
+                              "bring it nearer the scenario's other scales")
+        self.what, self.t, self.key, self.value = what, 0.0, key, value
+
+
+def _show(value: object) -> str:
+    if isinstance(value, str) and value.startswith("("):
+        return value  # a placeholder such as "(missing)", not a value the user typed
+    if isinstance(value, int) and value.bit_length() > 256:  # repr() refuses ints of more than 4300 digits
+        return f"(an integer of about {int(value.bit_length() * 0.30103) + 1} digits)"
+    try:
+        text = repr(value)
+    except RecursionError:  # a table nested thousands deep (a long dotted key): say what it is
+        return f"(a {type(value).__name__} nested too deeply to show)"
+    except ValueError:  # repr() refuses an integer of more than 4300 digits inside a list or table
+        return f"(a {type(value).__name__} holding a number too long to show)"
+    return _cut(text)
+
+
+MAX_SHOWN = 80  # characters of a key or value echoed back: a message stays one readable line
+MAX_ALLOWED = 400  # characters of the "allowed" part (it may list keys, or quote a parser's message)
+
+
+def _cut(text: str, limit: int = MAX_SHOWN) -> str:
+    return text if len(text) <= limit else text[:limit - 3] + "..."

@@ -1,0 +1,310 @@
+"""What a system and a model are, and the one registry every consumer reads.
+
+A **System** is one kind of internal part (the moving mass with its cavity, medium and brake; the
+spherical pendulum; the plane pendulums). It owns the scenario tables that describe it, their
+parameters' metadata, its models by fidelity, its validity conditions and ``auto``'s choice among them,
+its derived quantities and error estimates, and an example scenario. ``simulate``, ``LiveRun``, the
+sweeps, ``physics info``, the explorer's lists and sliders and the shared test battery all read
+``SYSTEMS`` and ``REGISTRY``; none of them names a system.
+
+A **Model** is a system at one fidelity: either an ODE (a right-hand side, its state layout, how its
+states become a Trajectory) or a closed form (``solve``).
+
+It sits below the scenario machinery (which reads the systems' tables from it) and the systems (which
+register here). Systems register themselves with ``register_system`` from their own folder's ``system`` module;
+``load_builtin`` imports every folder of this package that has one, so adding a folder is enough.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from physics.core.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from physics.scenario.scenario import Scenario
+
+FIDELITY_ORDER = ("full", "averaged", "closed")  # dearest first; "auto" chooses among them
+
+
+@dataclass(frozen=True)
+class Param:
+    """One scenario key's metadata: what a slider, a sweep axis or the docs say about it.
+
+    ``key`` is the dotted TOML key ("mass.m"); ``label`` the short name the papers use; ``unit`` SI;
+    ``meaning`` one line for a person; ``lo``, ``hi``, ``step`` the explorer's slider range (a scenario may
+    hold any value the table's validation accepts); ``equation`` where the papers define it;
+    ``folder`` the explorer's group for it; ``restarts``: a change means something only from t = 0; ``adds``:
+    a sweep may set it on a scenario without its table (one key completes the table)."""
+
+    key: str
+    label: str
+    unit: str
+    meaning: str
+    lo: float
+    hi: float
+    step: float
+    equation: str = ""
+    folder: str = ""
+    restarts: bool = False
+    adds: bool = False  # setting it on a scenario without its table adds the table (the key completes it)
+
+    @property
+    def text(self) -> str:
+        return f"{self.label} ({self.unit})" if self.unit else self.label
+
+
+@dataclass(frozen=True)
+class Table:
+    """A scenario table a system owns: ``[name]`` parsed into the frozen dataclass ``cls``.
+
+    ``array``: written ``[[name]]``, one table per item (a tuple on the Scenario). ``field``: the Scenario
+    attribute, when it differs from ``name``. ``selects``: its presence alone picks the system (a
+    ``[cavity]`` with no mass still runs the moving mass; a table with ``selects=False`` only says that it
+    belongs to the system, and is refused with any other)."""
+
+    name: str
+    cls: type
+    array: bool = False
+    field: str | None = None
+    selects: bool = True
+    renamed: tuple[tuple[str, str], ...] = ()  # (TOML key, dataclass field) where the paper's name is a keyword
+
+    @property
+    def attribute(self) -> str:
+        return self.field or self.name
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One validity condition: a number compared with a limit (``value <= limit`` holds)."""
+
+    name: str
+    value: float
+    limit: float
+
+    @property
+    def holds(self) -> bool:
+        return self.value <= self.limit
+
+    def __str__(self) -> str:
+        sign = "<=" if self.holds else ">"
+        return f"{self.name} = {self.value:.3g} {sign} {self.limit:g}"
+
+
+@dataclass(frozen=True)
+class Model:
+    """A system at one fidelity.
+
+    ``pack(scenario) -> p`` makes the parameter vector; ``initial_state(scenario, p) -> y0``;
+    ``observe(t, Y, p, scenario) -> Trajectory`` turns states into output; ``invariants(Y, p)``
+    gives the inertial angular momentum (n, 3) and energy (n,) that conservation tests check.
+    An ODE model gives its right-hand side either as a compiled kernel id (``kernel``, dispatched in
+    physics/compiled/dispatch.py so that numba can cache the integrators) or as a Python function
+    ``py_rhs(t, y, p, out)`` (stepped by the interpreted twin of the same integrators: slower, no
+    compilation; a new system can start this way). ``state`` names the state's entries; ``layout(n)``
+    names a state of length n when the length depends on the parameters (N plane pendulums). A closed form gives
+    ``solve(scenario, t) -> Trajectory`` instead. ``columns`` are the extra Trajectory columns.
+
+    A closed form's hooks, for a viewer that changes a slider while it runs (physics/stepping/live.py):
+    ``proxy`` is the fidelity of the stateful model whose state its rows read as (its K is what a carry keeps);
+    ``restart(old_model, old_p, old_sc, y_old, new_model, new_sc, t0, last=None, K_keep=None) -> (ClosedOrigin,
+    Carried)`` restarts it at t0 from a running state (physics/systems/restart.py; without it the run restarts
+    from t = 0); ``initial_momentum(scenario, G) -> K (3,)`` is its inertial K at t = 0 when |K| = G, if not
+    G (sin theta0, 0, cos theta0).
+    """
+
+    name: str
+    system: str
+    fidelity: str
+    summary: str
+    state: tuple[str, ...] = ()
+    kernel: int | None = None
+    py_rhs: Callable | None = None
+    pack: Callable | None = None
+    initial_state: Callable | None = None
+    observe: Callable | None = None
+    invariants: Callable | None = None
+    solve: Callable[[Scenario, np.ndarray], Trajectory] | None = None
+    columns: tuple[str, ...] = field(default=())
+    layout: Callable[[int], tuple[str, ...]] | None = None
+    proxy: str | None = None
+    restart: Callable | None = None
+    initial_momentum: Callable[[Scenario, float], np.ndarray] | None = None
+
+    def state_names(self, n: int | None = None) -> tuple[str, ...]:
+        """The names of the entries of a state of length ``n`` (``state`` when the length is fixed)."""
+        if self.layout is not None and n is not None:
+            return tuple(self.layout(n))
+        return self.state
+
+    def slices(self, n: int | None = None) -> dict[str, slice]:
+        """Named parts of the state: ``omega`` (body angular velocity), ``quat`` (attitude, scalar first),
+        ``internal`` (the part's own coordinates and rates, possibly empty) and ``work`` (the rest: dissipated
+        work, a chart index)."""
+        names = self.state_names(n)
+        q = names.index("qw")
+        return dict(omega=slice(0, 3), internal=slice(3, q), quat=slice(q, q + 4), work=slice(q + 4, len(names)))
+
+    def rhs(self, t: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """dy/dt as a new array (a convenience for tests and scipy; the integrators call the kernel)."""
+        out = np.empty_like(np.asarray(y, dtype=float))
+        if self.py_rhs is not None:
+            self.py_rhs(t, np.asarray(y, dtype=float), p, out)
+            return out
+        from physics.compiled.dispatch import rhs
+
+        rhs(self.kernel, t, np.asarray(y, dtype=float), p, out)
+        return out
+
+
+def _none(sc, item=None) -> dict:
+    return {}
+
+
+@dataclass
+class System:
+    """One kind of internal part, with everything that depends on which part it is.
+
+    Hooks (each takes the Scenario): ``check(sc)`` raises ScenarioError for combinations its tables' own
+    validation cannot see (a mass heavier than the body); ``conditions(sc)`` lists the averaged model's
+    validity conditions; ``choose(sc) -> (fidelity, reason)`` is ``auto``'s pick; ``available(sc, fidelity)
+    -> (ok, why)`` says whether a registered model covers this scenario; ``derived(sc)`` the papers'
+    quantities by name; ``error_bounds(sc, fidelity)`` the estimated max |theta - theta_full| (rad) of a
+    cheaper fidelity, or None; ``edit(data, key, value)`` applies one slider value to a scenario's dict
+    (a zero mass removes the mass); ``values(sc, item=None)`` the slider values describing a scenario (item
+    picks one of an array table's items).
+    ``amplitude(tr, sc)`` is the internal part's largest excursion over a run (the sweeps' max_displacement).
+    ``example`` is a scenario (TOML text) that shows the part at work.
+
+    For a state carried across a change (physics/systems/carry.py): ``parts`` maps an optional table (its
+    Scenario attribute) to the state entries that belong to it, dropped when the table is absent and started
+    afresh when it appears; ``start_part(part, model, sc, y, p, K, idx) -> (y, iterations)`` says how such a part
+    starts (its entries ``y[idx]``, omega solved so that the model's inertial K stays ``K``); without it, or
+    when it returns ``y`` unchanged, the part starts at rest relative to the body.
+    ``check_run(sc)`` raises ScenarioError before a run (any fidelity) for what only a run needs.
+    ``braking_time(G, b, lam)``: the time a braking torque b brings |G| to zero against a medium lam, or None
+    when the system has no law for it. ``quantities``: (unit, meaning) of ``derived``'s keys for ``physics
+    info``; ``quantity(name)`` the same for keys built at run time (one per pendulum), or None.
+    """
+
+    name: str
+    label: str
+    summary: str
+    tables: tuple[Table, ...]
+    example: str
+    params: tuple[Param, ...] = ()
+    folders: tuple[str, ...] = ()  # the explorer's slider groups, in order (Param.folder names them)
+    default: bool = False  # runs a scenario that has none of the systems' selecting tables (a bare body)
+    check: Callable[[Any], None] | None = None
+    conditions: Callable[[Any], list[Condition]] = lambda sc: []
+    choose: Callable[[Any], tuple[str, str]] | None = None
+    available: Callable[[Any, str], tuple[bool, str]] = lambda sc, fidelity: (True, "")
+    derived: Callable[[Any], dict] = _none
+    error_bounds: Callable[[Any, str], float | None] = lambda sc, fidelity: None
+    edit: Callable[[dict, str, Any], None] | None = None
+    values: Callable[..., dict[str, float]] = _none
+    amplitude: Callable[[Trajectory, Any], float] | None = None
+    parts: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    start_part: Callable | None = None
+    check_run: Callable[[Any], None] | None = None
+    braking_time: Callable[[float, float, float], float] | None = None
+    quantities: dict[str, tuple[str, str]] = field(default_factory=dict)
+    quantity: Callable[[str], tuple[str, str] | None] = lambda name: None
+    models: dict[str, Model] = field(default_factory=dict)
+
+    @property
+    def fidelities(self) -> tuple[str, ...]:
+        """"auto" and the registered fidelities, dearest first."""
+        known = [f for f in FIDELITY_ORDER if f in self.models]
+        return ("auto", *known, *sorted(set(self.models) - set(known)))
+
+    def pick(self, sc) -> tuple[str, str]:
+        """``auto``'s fidelity and reason: the system's chooser, else the cheapest registered model whose
+        conditions hold and that is available, else the full model."""
+        if self.choose is not None:
+            return self.choose(sc)
+        failed = [c for c in self.conditions(sc) if not c.holds]
+        for fid in reversed(self.fidelities[1:]):
+            if fid == "full" or (not failed and self.available(sc, fid)[0]):
+                why = "requested" if fid == "full" else "conditions hold"
+                return fid, why if not failed else "conditions fail: " + "; ".join(map(str, failed))
+        return "full", "no cheaper model"
+
+
+SYSTEMS: dict[str, System] = {}
+REGISTRY: dict[str, Model] = {}  # "system/fidelity" -> Model
+_LOADING = threading.RLock()
+_LOADED = False
+
+
+def register_system(system: System) -> System:
+    if system.name in SYSTEMS:
+        raise ValueError(f"system {system.name!r} registered twice")
+    SYSTEMS[system.name] = system
+    for model in [m for m in REGISTRY.values() if m.system == system.name]:  # models registered first
+        system.models[model.fidelity] = model
+    return system
+
+
+def unregister_system(name: str) -> None:
+    """Remove a system and its models (for tests that register a toy system)."""
+    SYSTEMS.pop(name, None)
+    for key in [k for k, m in REGISTRY.items() if m.system == name]:
+        del REGISTRY[key]
+
+
+def register(model: Model) -> Model:
+    if model.name in REGISTRY:
+        raise ValueError(f"model {model.name!r} registered twice")
+    REGISTRY[model.name] = model
+    if model.system in SYSTEMS:
+        SYSTEMS[model.system].models[model.fidelity] = model
+    return model
+
+
+def load_builtin() -> None:
+    """Import the ``system`` module of every folder of physics/systems (each registers its system)."""
+    global _LOADED
+    if _LOADED:
+        return
+    with _LOADING:
+        if _LOADED:
+            return
+        package = importlib.import_module("physics.systems")  # discovery, at run time: the systems sit above
+
+        for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda i: i.name):
+            if info.ispkg:
+                try:
+                    importlib.import_module(f"{package.__name__}.{info.name}.system")
+                except ModuleNotFoundError as exc:
+                    if exc.name != f"{package.__name__}.{info.name}.system":
+                        raise
+        _LOADED = True
+
+
+def systems() -> dict[str, System]:
+    load_builtin()
+    return SYSTEMS
+
+
+def get_system(name: str) -> System:
+    load_builtin()
+    return SYSTEMS[name]
+
+
+def get_model(system: str, fidelity: str) -> Model:
+    load_builtin()
+    return REGISTRY[f"{system}/{fidelity}"]
+
+
+def tables() -> list[tuple[System, Table]]:
+    """Every registered system's tables, in registration order."""
+    return [(s, t) for s in systems().values() for t in s.tables]

@@ -1,0 +1,313 @@
+"""Stepping a scenario piece by piece, for an interactive viewer.
+
+``LiveRun(scenario)`` holds the model, its parameter vector, the state y, the time t and the
+compiled DOP853's step size. ``advance(dt)`` integrates [t, t + dt] and returns the rows reached as a
+Trajectory; the step size carries over, so pieces cost what one long run costs and agree with
+``simulate`` to the integrator's tolerance. ``retune(scenario)`` swaps the parameters (and the model, when
+the fidelity changes) and carries the state over. The end of braking and integration faults (a non-finite state,
+step-size underflow, the gimbal singularity, and a problem too stiff for the explicit integrator: a call
+that runs out of steps while they are held at the stability limit) are recorded in ``status`` and
+``message``, never raised: a viewer shows them and keeps the last good state. ``retune`` keeps the inertial
+angular momentum K and the attitude across a change (``physics.carry``) and reports the change of E.
+
+The closed fidelity has no state to step: its rows are evaluated from its start (t = 0, or where a retune
+restarted it from the state then, ``origin``) at the times asked for.
+A scenario's ``run.method`` RK4, RK8 or midpoint (with ``run.dt``) steps with that compiled fixed-step
+method instead of DOP853, as ``simulate`` does: both loop over the same stepper (physics/stepping/stepper.py,
+whose docstring is the stepping contract); ``advance`` is its loop in pieces, at most MAX_STEPS_PER_CALL steps
+a call, turning the stepper's ending statuses into ``status`` and ``message``.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+
+from physics.core.errors import ScenarioError
+from physics.core.trajectory import Trajectory
+from physics.kernels.build import pick
+from physics.registry import get_system
+from physics.scenario.params import FIXED_STEP_METHODS
+from physics.scenario.scenario import Scenario
+from physics.stepping.stepper import BRAKED as BRAKED_STATUS
+from physics.stepping.stepper import STATUS_TEXT, STIFFNESS_CHECK_STEPS, Stepper, brake_and_medium, check_method
+from physics.systems.carry import CannotCarry, carry_state
+from physics.systems.choice import Resolved, resolve
+from physics.systems.restart import ClosedOrigin, carry_to_closed
+
+RUNNING, BRAKED, FAULT = "running", "braked", "fault"
+# bounds the wall time of one advance(); the rest waits for the next call. One stiffness check's worth, so that a
+# stiff problem is found by the call that runs out of steps
+MAX_STEPS_PER_CALL = STIFFNESS_CHECK_STEPS
+
+
+class LiveRun:
+    """One scenario integrated in pieces. Not thread-safe: one owner thread calls its methods.
+
+    Attributes: ``scenario``, ``model``, ``fidelity`` (resolved), ``reason`` (why auto chose it),
+    ``p``, ``y`` (state at ``t``), ``h`` (next step size, 0 before the first step), ``status``
+    (RUNNING, BRAKED or FAULT), ``message`` (why it stopped), ``last`` (one-row Trajectory at t),
+    ``nsteps`` and ``nfev`` (totals), ``stepper`` (physics.stepping.stepper.Stepper: the method, tolerances,
+    step size and stiffness count; None for a closed form).
+
+    A shallow copy of ``vars(run)`` is a snapshot of the run (the explorer's undo restores one): every attribute
+    is replaced, never changed in place, the stepper included (a call steps a copy of it).
+    """
+
+    def __init__(self, scenario: Scenario, fidelity: str | None = None):
+        self._start(scenario, fidelity)
+
+    # ---- set-up -------------------------------------------------------------------------
+    def _start(self, scenario: Scenario, fidelity: str | None) -> None:
+        res = resolve(scenario, fidelity)
+        self.scenario = scenario
+        self.requested = fidelity or scenario.run.fidelity
+        self.model, self.fidelity, self.reason = res.model, res.fidelity, res.reason
+        self.t = 0.0
+        self.stepper: Stepper | None = None  # None for a closed form
+        self.nsteps = 0
+        self.nfev = 0
+        self.status = RUNNING
+        self.message = ""
+        self.energy_change: float | None = None  # what the last retune did to E (J); None after a (re)start
+        self.edit = None  # the last retune's physics.carry.Carried
+        self.edit_note = ""  # why the last retune could not keep the state
+        self.origin: ClosedOrigin | None = None  # where a closed form was restarted with the state kept
+        self._set_params(scenario)
+        if self.model.solve is not None:
+            self.p = np.zeros(0)
+            self.y = np.zeros(0)
+            self.last = self._closed(np.array([0.0]))
+            return
+        self.p = np.asarray(self.model.pack(scenario), dtype=float)
+        check_method(self.model, scenario, _method(scenario))
+        self.y = np.asarray(self.model.initial_state(scenario, self.p), dtype=float).copy()
+        _require_finite(scenario, self.y, "the initial state")
+        self.stepper = Stepper(self.model, scenario, self.y, method=_method(scenario), p=self.p, kernels=pick)
+        self.last = self._observe(np.array([0.0]), self.y[None, :])
+        _require_finite(scenario, np.array([self.last.theta[0], self.last.K[0], self.last.E[0]]),
+                        "theta, |K| and E at t = 0")
+
+    def _set_params(self, scenario: Scenario) -> None:
+        """The readouts of the scenario's run: rtol, the braking torque b and the medium's lambda."""
+        self.rtol = scenario.run.rtol
+        self.b, self.lam = brake_and_medium(scenario)
+
+    @property
+    def p(self) -> np.ndarray:
+        """The parameter vector the run steps with (empty for a closed form)."""
+        return self._p
+
+    @p.setter
+    def p(self, value) -> None:
+        self._p = value
+        if getattr(self, "stepper", None) is not None:
+            self.stepper = copy.copy(self.stepper)  # never changed in place: see the class docstring
+            self.stepper.p = value
+
+    @property
+    def h(self) -> float:
+        """The step size the next call starts with (0: the integrator guesses; 0 for a closed form)."""
+        return self.stepper.h if self.stepper is not None else 0.0
+
+    @property
+    def atol(self) -> float:
+        return self.stepper.atol if self.stepper is not None else 0.0
+
+    def reset(self) -> None:
+        """Back to t = 0 with the current scenario."""
+        self._start(self.scenario, self.requested)
+
+    def retune(self, scenario: Scenario, fidelity: str | None = None, *, keep_state: bool = True) -> bool:
+        """Run ``scenario`` from now on. Returns True when the current state was carried over, False when
+        it restarted from t = 0. Raises ScenarioError (before changing anything) when the scenario cannot run.
+
+        With ``keep_state`` the state is carried (``physics.carry``): the attitude, the internal coordinates
+        that still exist and the inertial angular momentum K are kept, omega is solved for, t goes on, and
+        ``energy_change`` is what the edit did to E (J). A closed form has no state: one whose Model has a
+        ``restart`` hook is restarted at t from the present K and attitude (physics/systems/restart.py; the
+        spherical pendulum's averaged solution with its bob put at rest). When the state cannot be kept the run
+        restarts from t = 0 and ``edit_note`` says why; ``energy_change`` is then None."""
+        res = resolve(scenario, fidelity)
+        if res.model.solve is None:
+            check_method(res.model, scenario, _method(scenario))
+        carried, origin, note = None, None, ""
+        if keep_state and self.status != FAULT:
+            y_old = self.y if self.model.solve is None else None
+            K_shown = None if self.model.solve is None else self.momentum()  # a closed form's K, not its row's
+            try:
+                if res.model.solve is None:
+                    carried = carry_state(self.model, self.p, self.scenario, y_old, res.model, scenario, last=self.last,
+                                          K_keep=K_shown)
+                else:
+                    origin, carried = carry_to_closed(self.model, self.p, self.scenario, y_old, res.model, scenario,
+                                                      self.t, last=self.last, K_keep=K_shown)
+            except CannotCarry as exc:
+                note = f"state not kept: {exc}; restarted from t = 0"
+        if carried is None:
+            before = dict(self.__dict__)
+            try:
+                self._start(scenario, fidelity)
+            except ScenarioError:
+                self.__dict__.update(before)  # refused: the run goes on as it was
+                raise
+            self.energy_change, self.edit, self.edit_note = None, None, note
+            return False
+        _require_finite(scenario, carried.y, "the state carried over")
+        if origin is not None:
+            return self._go_on_closed(scenario, fidelity, res, origin, carried)
+        p = np.asarray(res.model.pack(scenario), dtype=float)
+        if res.model is self.model and self.stepper is not None:
+            stepper = copy.copy(self.stepper)  # never changed in place: see the class docstring
+            stepper.retune(scenario, carried.y, method=_method(scenario), p=p)  # atol and the count kept
+            self.stepper = stepper
+        else:  # a new model: its own atol and stiffness count; the braking law's G0 is the run's, if measured
+            G0 = self.stepper.G0 if self.stepper is not None else None
+            self.stepper = Stepper(res.model, scenario, carried.y, method=_method(scenario), p=p, G0=G0,
+                                   kernels=pick)
+        self.origin = None
+        self.model, self.fidelity = res.model, res.fidelity
+        self.p = p
+        self.y = carried.y
+        self.energy_change, self.edit, self.edit_note = carried.dE, carried, ""
+        self.scenario = scenario
+        self.requested = fidelity or scenario.run.fidelity
+        self.reason = res.reason
+        self._set_params(scenario)
+        if self.status == BRAKED and self.b == 0.0:
+            self.status, self.message = RUNNING, ""
+        self.last = self._observe(np.array([self.t]), self.y[None, :])
+        return True
+
+    def _go_on_closed(self, scenario: Scenario, fidelity: str | None, res: Resolved, origin: ClosedOrigin,
+                      carried) -> bool:
+        """Go on from now with a closed form restarted at the present K and attitude (physics/systems/restart.py)."""
+        self.scenario, self.requested = scenario, fidelity or scenario.run.fidelity
+        self.model, self.fidelity, self.reason = res.model, res.fidelity, res.reason
+        self.stepper, self.p, self.y = None, np.zeros(0), np.zeros(0)
+        self._set_params(scenario)
+        self.origin = origin
+        if self.status == BRAKED and self.b == 0.0:
+            self.status, self.message = RUNNING, ""
+        self.last = self._closed(np.array([self.t]))
+        self.energy_change = float(self.last.E[0]) - carried.E_before
+        self.edit, self.edit_note = carried, ""
+        return True
+
+    def momentum(self) -> np.ndarray:
+        """The inertial angular momentum K (3,) now, kg m^2/s. A closed form keeps K's direction fixed in space:
+        along G0 (sin theta0, 0, cos theta0) from its start (or where its Model's ``initial_momentum`` says),
+        turned by where it was restarted."""
+        if self.model.solve is None:
+            return np.asarray(pick(self.model.invariants)(self.y[None, :], self.p)[0][0], dtype=float)
+        G = float(self.last.K[0])
+        if self.origin is not None:
+            return self.origin.momentum(G)
+        if self.model.initial_momentum is not None:
+            return self.model.initial_momentum(self.scenario, G)
+        from physics.scenario.initial import initial_G
+
+        _, _, th0 = initial_G(self.scenario)
+        return G * np.array([math.sin(th0), 0.0, math.cos(th0)])
+
+    # ---- stepping -----------------------------------------------------------------------
+    def advance(self, dt: float, samples: int = 1) -> Trajectory:
+        """Integrate over [t, t + dt] and return the rows reached at ``samples`` evenly spaced times
+        in (t, t + dt] (fewer if the run stops or the per-call step budget runs out first).
+        Returns an empty Trajectory once the run has ended."""
+        if self.status != RUNNING or not dt > 0:
+            return self._empty()
+        samples = max(1, int(samples))
+        if self.stepper is None:
+            return self._advance_closed(self.t + dt * np.arange(1, samples + 1) / samples)
+        # a fixed step has no step budget of its own: at most MAX_STEPS_PER_CALL steps a call, so a tiny run.dt
+        # (1e-12 s) slows the run instead of freezing its caller (a tab's loop) for hours
+        dt = min(dt, self.stepper.reach(MAX_STEPS_PER_CALL))
+        t_out = np.concatenate([[self.t], self.t + dt * np.arange(1, samples + 1) / samples])
+        # compiled, or its interpreted twin while the compiled kernels are being built (physics.kernels.build)
+        self.stepper = copy.copy(self.stepper)  # never changed in place: see the class docstring
+        piece = self.stepper.step(self.y, t_out, MAX_STEPS_PER_CALL)
+        self.nfev += piece.nfev
+        self.nsteps += piece.nsteps
+        if piece.status == BRAKED_STATUS:
+            self.status = BRAKED
+            self.message = f"{STATUS_TEXT[piece.status]} at t = {piece.t_last:.6g} s"
+        elif piece.ended:  # recorded, never raised: the viewer shows it and keeps the last good state
+            self.status = FAULT
+            self.message = str(piece.fault())
+        if not len(piece.rows_t):
+            return self._empty()
+        self.t = float(piece.rows_t[-1])
+        self.y = piece.rows_y[-1].copy()
+        tr = self._observe(piece.rows_t, piece.rows_y)
+        self.last = tr.slice(len(tr) - 1)
+        return tr
+
+    def _advance_closed(self, times: np.ndarray) -> Trajectory:
+        try:
+            tr = self._closed(times)
+        except (ValueError, FloatingPointError) as exc:
+            self.status, self.message = FAULT, f"closed form failed: {exc}"
+            return self._empty()
+        stop = tr.info.get("t_stop")
+        if "braking" in str(tr.info.get("stop_reason", "")) and stop is not None:
+            self.status = BRAKED
+            self.message = f"braking brought |G| to zero at t = {stop:.6g} s"
+        if len(tr):
+            self.t = float(tr.t[-1])
+            self.last = tr.slice(len(tr) - 1)
+        return tr
+
+    def _closed(self, times: np.ndarray) -> Trajectory:
+        if self.origin is not None:
+            return self.origin.evaluate(self.model, times)
+        t_all = np.concatenate([[0.0], times]) if times[0] > 0 else times
+        tr = self.model.solve(self.scenario, t_all)
+        if times[0] > 0:
+            tr = tr.slice(1)
+        return tr
+
+    def _observe(self, t: np.ndarray, Y: np.ndarray) -> Trajectory:
+        return pick(self.model.observe)(np.asarray(t, dtype=float), np.ascontiguousarray(Y), self.p, self.scenario)
+
+    def _empty(self) -> Trajectory:
+        return self.last.slice(0, 0)
+
+    # ---- readouts -----------------------------------------------------------------------
+    @property
+    def ended(self) -> bool:
+        return self.status != RUNNING
+
+    def remaining_braking_time(self) -> float:
+        """Time left until |G| reaches zero under braking (the system's ``braking_time`` from the current |G|:
+        the moving mass's seed 004 eq. (11), whose averaged G' = -b - lambda G gives it from |G| alone), inf
+        without braking or when the system has no such law."""
+        braking_time = get_system(self.scenario.system).braking_time
+        if self.b <= 0 or braking_time is None:
+            return math.inf
+        if self.status == BRAKED:
+            return 0.0
+        G = float(self.last.K[-1]) if len(self.last) else 0.0
+        return float(braking_time(G, self.b, self.lam)) if G > 0 else 0.0
+
+
+__all__ = ["BRAKED", "FAULT", "RUNNING", "LiveRun", "Resolved", "resolve"]
+
+
+def _method(scenario: Scenario) -> str:
+    """The stepper's method for a live run: the scenario's fixed-step method, else the compiled DOP853 (scipy's
+    methods run whole runs only)."""
+    return scenario.run.method if scenario.run.method in FIXED_STEP_METHODS else "auto"
+
+
+def _require_finite(scenario: Scenario, values: np.ndarray, what: str) -> None:
+    """ScenarioError, naming the scenario's most extreme value, when ``values`` are not all finite: a run must
+    never start (or go on) from NaN or inf (G0 = 1e200 gave E = inf and theta = NaN that a viewer showed)."""
+    if np.all(np.isfinite(values)):
+        return
+    from physics.core.blame import most_extreme
+
+    key, value = most_extreme(scenario)
+    raise ScenarioError(key, value, f"makes {what} non-finite (overflow): choose a value nearer 1 in size")

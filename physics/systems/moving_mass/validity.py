@@ -1,0 +1,71 @@
+"""When the averaged and closed-form models can be trusted: MODELS.md Part A section 5.
+
+Each condition is a number compared with a limit. The limits turn "<<" into numbers: with them the
+averaged model's theta is good to about 1e-3 rad (MODELS A.7(a): eps = 0.1 gives 4.4e-3 oblate,
+7.9e-4 prolate), which is what a user choosing "auto" is promised.
+"""
+
+from __future__ import annotations
+
+from physics.registry import Condition
+from physics.scenario.scenario import Scenario
+from physics.systems.moving_mass.coefficients import _floats, _ieee, coefficients
+
+EPS_MAX = 0.1  # Omega^2 >> w^2
+COUPLING_MAX = 0.1  # Omega^2 >> chi w
+DECAY_MAX = 0.3  # chi w >> w^2: free oscillations die within a fraction of a revolution
+RE_MAX = 0.1  # Stokes flow in the cavity
+SLOW_MAX = 0.1  # b/G and lambda small next to w
+ASYM_MAX = 1e-9  # A = B
+
+
+@_ieee
+def averaged_conditions(sc: Scenario) -> list[Condition]:
+    co = coefficients(sc)
+    w = co.omega0
+    out = []
+    if sc.mass is not None:
+        ms = _floats(sc.mass)
+        out.append(Condition("eps = |w0|/Omega", w / ms.Omega, EPS_MAX))
+        if ms.chi > 0:
+            out.append(Condition("chi |w0| / Omega^2", ms.chi * w / ms.Omega**2, COUPLING_MAX))
+        if sc.initial.mass_state == "rest":
+            # the averaged model ignores the free oscillation a resting mass starts with
+            decay = w / ms.chi if ms.chi > 0 else float("inf")
+            out.append(Condition("|w0|/chi (free oscillation decay)", decay, DECAY_MAX))
+    if sc.cavity is not None:
+        out.append(Condition("Re = a0^2 |w0| / nu", sc.cavity.a0 * sc.cavity.a0 * w / sc.cavity.nu, RE_MAX))
+    if sc.medium is not None:
+        out.append(Condition("lambda / |w0|", co.lam / w, SLOW_MAX))
+    if sc.control is not None:
+        out.append(Condition("b / (G0 |w0|)", co.b / (co.G0 * w), SLOW_MAX))
+    out.append(Condition("|A - B| / A", abs(sc.body.A - sc.body.B) / sc.body.A, ASYM_MAX))
+    return out
+
+
+def closed_form_available(sc: Scenario) -> tuple[bool, str]:
+    """The closed forms cover seed 004 (viscous mass, cavity, medium, control) and seed 000
+    section 2 (quadratic friction alone)."""
+    if sc.mass is not None and sc.mass.lam_q > 0:
+        others = (sc.mass.chi > 0, sc.cavity is not None, sc.medium is not None, sc.control is not None)
+        if any(others):
+            return False, "quadratic friction has a closed form (seed 000 (2.11)) only on its own"
+    return True, "closed form exists"
+
+
+def choose(sc: Scenario) -> tuple[str, str]:
+    """``auto``'s pick for a moving-mass scenario: with ``run.accuracy`` the cheapest model whose error bound
+    meets it (physics/systems/moving_mass/accuracy.py), else the cheapest whose validity conditions hold."""
+    if sc.run.accuracy is not None:
+        from physics.systems.moving_mass.accuracy import choose_for_accuracy
+
+        picked = choose_for_accuracy(sc)
+        if picked is not None:
+            return picked
+    failed = [c for c in averaged_conditions(sc) if not c.holds]
+    if failed:
+        return "full", "averaged conditions fail: " + "; ".join(map(str, failed))
+    ok, why = closed_form_available(sc)
+    if ok:
+        return "closed", "averaged conditions hold (" + "; ".join(map(str, averaged_conditions(sc))) + "); " + why
+    return "averaged", "averaged conditions hold; " + why

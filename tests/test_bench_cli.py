@@ -1,0 +1,120 @@
+"""``python -m bench``: one subcommand per study, each with its own options, and one machine record (issue 14).
+
+In-process and cheap: help texts are parsed and the dispatch is checked with a study's ``main`` replaced by a
+recorder, so no study runs."""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import re
+import subprocess
+import sys
+from importlib import import_module, metadata
+from pathlib import Path
+
+import pytest
+
+from bench.__main__ import STUDIES
+from bench.__main__ import main as bench_main
+from bench.machine import machine
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# each study and options its --help must name (its own parser's, not the top level's)
+OPTIONS = {
+    "work-precision": ["--quick", "--out", "--img"],
+    "stability": ["--quick", "--out", "--img"],
+    "figures": ["--out", "--quick", "--presets"],
+    "sweep": ["--vary", "--metric", "--workers", "--dask", "--scaling"],
+    "soak": ["--minutes", "--clients", "--churn", "--reconnect", "--trim"],
+    "load": ["--clients", "--minutes", "--warmup", "--out"],
+    "explorer-rates": ["seconds", "--out", "--img", "--chart-only"],
+    "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
+}
+
+
+def _exit(argv, capsys) -> tuple[int, str, str]:
+    with pytest.raises(SystemExit) as stop:
+        bench_main(argv)
+    out, err = capsys.readouterr()
+    return stop.value.code, out, err
+
+
+def test_every_study_module_with_a_main_is_a_subcommand():
+    # a module of bench/ that defines main() is a study: it must be reachable as python -m bench NAME
+    with_main = {p.stem for p in (ROOT / "bench").glob("*.py")
+                 if p.stem != "__main__" and re.search(r"^def main\(", p.read_text(), re.M)}
+    assert with_main == {module for module, _line in STUDIES.values()}
+    assert set(STUDIES) == set(OPTIONS)
+
+
+def test_top_level_help_lists_every_subcommand_with_its_line(capsys):
+    code, out, _err = _exit(["--help"], capsys)
+    assert code == 0
+    text = re.sub(r"\s+", " ", out)
+    for name, (_module, line) in STUDIES.items():
+        assert f"{name} {line}" in text, f"python -m bench --help does not list {name} with its line"
+
+
+@pytest.mark.parametrize("name", sorted(OPTIONS))
+def test_study_help_shows_its_own_options(name, capsys):
+    code, out, _err = _exit([name, "--help"], capsys)
+    assert code == 0
+    assert out.startswith(f"usage: python -m bench {name} "), out.splitlines()[0]
+    for option in OPTIONS[name]:
+        assert option in out, f"python -m bench {name} --help does not name {option}"
+
+
+def test_the_rest_of_the_line_reaches_the_study_unchanged(monkeypatch):
+    module = import_module("bench.explorer_startup")
+    seen = []
+    monkeypatch.setattr(module, "main", lambda argv: seen.append(argv) or 7)
+    # a positional among options, an option=value, and options the top-level parser does not know
+    argv = ["--cold", "3", "--out=x.csv", "--fast-timeout", "90", "--inline"]
+    assert bench_main(["explorer-startup", *argv]) == 7  # the study's exit status is the command's
+    assert seen == [argv]
+
+
+def test_unknown_study_exits_2_naming_it(capsys):
+    code, _out, err = _exit(["no-such-study", "--quick"], capsys)
+    assert code == 2
+    assert "'no-such-study'" in err and "work-precision" in err  # what was given, and what is allowed
+
+
+def test_no_study_exits_2_saying_one_is_needed(capsys):
+    code, _out, err = _exit([], capsys)
+    assert code == 2
+    assert "STUDY" in err
+
+
+def test_the_older_script_form_still_runs():
+    # README.md quoted `python bench/explorer_startup.py ...` before the subcommand existed
+    done = subprocess.run([sys.executable, "bench/explorer_startup.py", "--help"], cwd=ROOT, capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("usage: python bench/explorer_startup.py ") and "--cold" in done.stdout
+
+
+def test_machine_records_the_union_of_the_older_records():
+    box = machine()
+    assert set(box) == {"platform", "processor", "cpu", "cpus", "cores", "python", "numpy", "scipy", "numba",
+                        "mujoco", "matplotlib", "dask", "distributed"}
+    assert box["cpus"] == box["cores"] == os.cpu_count()
+    assert box["python"] == platform.python_version()
+    assert box["numpy"] == metadata.version("numpy") and box["numba"] == metadata.version("numba")
+    assert box["cpu"] and box["platform"] == platform.platform()
+    json.dumps(box)  # it goes into .meta.json files as is
+
+
+def test_machine_keeps_the_key_names_of_the_results_already_written():
+    # every machine key of the committed results is still recorded, so readers of old and new files agree
+    boxes = {}
+    for path in (ROOT / "bench" / "results").glob("*.json"):
+        box = json.loads(path.read_text()).get("machine")
+        if box:
+            boxes[path.name] = box
+    assert boxes, "no results file with a machine record"
+    for name, box in boxes.items():
+        assert set(box) <= set(machine()), f"{name}: {sorted(set(box) - set(machine()))} no longer recorded"

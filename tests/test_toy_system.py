@@ -1,0 +1,197 @@
+"""A system registered in this file alone is picked up everywhere: simulate, LiveRun, sweep, the model battery,
+``physics info``'s derived quantities and the explorer's system list and sliders (issue 14).
+
+The toy is a gyrostat: a body with a rotor spinning about e3 with a fixed relative angular momentum h
+(Volterra). Its body-frame momentum K = J w + h e3 obeys K' = K x w, so |K| and the inertial K are
+conserved; with h = 0 it is the free rigid body, which the moving-mass system runs with no mass.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+import test_model_battery as battery
+
+import physics
+from physics.core.rotation import nutation_angle, rotate
+
+NAME = "rotor"
+
+
+@dataclass(frozen=True)
+class Rotor:
+    """A rotor about e3 with relative angular momentum h (kg m^2/s)."""
+
+    h: float
+
+    def __post_init__(self):
+        if isinstance(self.h, bool) or not isinstance(self.h, (int, float)) or not math.isfinite(self.h):
+            raise physics.ScenarioError("rotor.h", self.h, "must be a finite number")
+        object.__setattr__(self, "h", float(self.h))
+
+
+def pack(sc):
+    return np.array([sc.body.A, sc.body.B, sc.body.C, sc.rotor.h])
+
+
+def rhs(t, y, p, out):
+    J, h = p[:3], p[3]
+    w, q = y[:3], y[3:7]
+    K = J * w
+    K[2] += h
+    out[:3] = np.cross(K, w) / J  # J w' = K x w (the rotor's h is constant relative to the body)
+    out[3] = -0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2])
+    out[4] = 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1])
+    out[5] = 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2])
+    out[6] = 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0])
+
+
+def initial_state(sc, p):
+    w0, _, _ = physics.initial_G(sc)
+    return np.concatenate([w0, [1.0, 0.0, 0.0, 0.0]])
+
+
+def _momentum(Y, p):
+    K = Y[:, :3] * p[:3]
+    K[:, 2] += p[3]
+    return K, 0.5 * np.sum(Y[:, :3] * Y[:, :3] * p[:3], axis=1)
+
+
+def observe(t, Y, p, sc):
+    K, E = _momentum(Y, p)
+    q = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1)[:, None]
+    return physics.Trajectory(t=t, theta=nutation_angle(K), K=np.linalg.norm(K, axis=1), E=E,
+                              omega=Y[:, :3].copy(), quat=q)
+
+
+def invariants(Y, p):
+    K, E = _momentum(Y, p)
+    return rotate(Y[:, 3:7], K), E
+
+
+EXAMPLE = """
+[body]
+A = 1.0
+B = 1.2
+C = 1.5
+M = 1.0
+
+[rotor]
+h = 0.3
+
+[initial]
+G0 = 2.0
+theta0 = 0.4
+
+[run]
+fidelity = "auto"
+t_end = 20.0
+samples = 201
+"""
+
+
+@pytest.fixture(scope="module", autouse=True)
+def toy():
+    physics.register_model(physics.Model(
+        name=f"{NAME}/full", system=NAME, fidelity="full", summary="a gyrostat (test toy)",
+        state=("wx", "wy", "wz", "qw", "qx", "qy", "qz"), py_rhs=rhs, pack=pack, initial_state=initial_state,
+        observe=observe, invariants=invariants))
+    system = physics.register_system(physics.System(
+        name=NAME, label="body with a rotor", summary="a gyrostat: a rotor of fixed relative momentum h about e3",
+        tables=(physics.Table("rotor", Rotor),), example=EXAMPLE,
+        params=(physics.Param("rotor.h", "h", "kg m^2/s", "the rotor's angular momentum relative to the body",
+                              -2.0, 2.0, 0.01, folder="Rotor"),),
+        folders=("Rotor",), derived=lambda sc: {"h": sc.rotor.h}))
+    yield system
+    physics.unregister_system(NAME)
+
+
+def test_a_scenario_with_its_table_runs_its_system():
+    sc = physics.Scenario.from_toml(EXAMPLE)
+    assert sc.system == NAME and sc.rotor == Rotor(0.3)
+    assert physics.Scenario.from_toml(sc.to_toml()) == sc  # the table round-trips
+    with pytest.raises(physics.ScenarioError, match="rotor.h"):
+        physics.Scenario.from_toml(EXAMPLE.replace("h = 0.3", 'h = "fast"'))
+    with pytest.raises(physics.ScenarioError, match="one internal part at a time"):
+        physics.Scenario.from_toml(EXAMPLE + "\n[mass]\nm = 0.1\nrho = 1.0\nOmega = 5.0\n")
+
+
+def test_simulate_conserves_the_gyrostats_momentum():
+    sc = physics.Scenario.from_toml(EXAMPLE)
+    tr = physics.simulate(sc)
+    assert tr.info["model"] == f"{NAME}/full" and tr.info["fidelity"] == "full"
+    assert len(tr.t) == 201 and np.all(np.isfinite(tr.theta))
+    model = physics.get_model(NAME, "full")
+    p = model.pack(sc)
+    Y = np.column_stack([tr.omega, tr.quat])
+    K_inertial, E = model.invariants(Y, p)
+    assert np.max(np.abs(K_inertial - K_inertial[0])) < 1e-8 * np.linalg.norm(K_inertial[0])
+    assert np.max(np.abs(E - E[0])) < 1e-8 * E[0]  # torque-free, no dissipation
+    assert np.ptp(tr.theta) > 1e-3  # it does nutate: the check above is not of a body at rest
+
+
+def test_with_no_rotor_it_is_the_free_body_the_moving_mass_system_runs():
+    toy = physics.Scenario.from_toml(EXAMPLE.replace("h = 0.3", "h = 0.0"))
+    bare = physics.Scenario.from_dict({k: v for k, v in toy.to_dict().items() if k != "rotor"})
+    assert bare.system != NAME
+    a = physics.simulate(toy)
+    b = physics.simulate(bare, fidelity="full")
+    assert np.max(np.abs(a.theta - b.theta)) < 1e-7
+    assert np.max(np.abs(a.quat - b.quat)) < 1e-7
+
+
+def test_live_run_steps_it_like_simulate():
+    sc = physics.Scenario.from_toml(EXAMPLE)
+    run = physics.LiveRun(sc)
+    rows = [run.advance(0.5, samples=5) for _ in range(40)]
+    theta = np.concatenate([r.theta for r in rows])
+    t = np.concatenate([r.t for r in rows])
+    ref = physics.simulate(sc)
+    assert run.status == "running" and abs(t[-1] - 20.0) < 1e-9
+    assert np.max(np.abs(np.interp(ref.t[1:], t, theta) - ref.theta[1:])) < 1e-6
+
+
+def test_sweep_varies_its_parameter():
+    sc = physics.Scenario.from_toml(EXAMPLE)
+    assert "rotor.h" in physics.numeric_keys(sc)
+    table = physics.sweep(sc, vary={"rotor.h": "0:0.6:3"}, metric="theta_end", executor="serial")
+    rows = table.rows
+    assert [r["rotor.h"] for r in rows] == [0.0, 0.3, 0.6]
+    assert all(r["error"] == "" and math.isfinite(r["theta_end"]) for r in rows)
+    assert len({round(r["theta_end"], 9) for r in rows}) == 3  # h changes the motion
+
+
+def test_the_model_battery_runs_it():
+    name = f"{NAME}/full"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a toy the battery runs must not need a warning filter
+        battery.test_model_is_deterministic_finite_and_well_shaped(name)
+        battery.test_models_start_from_the_same_rotation(name)
+
+
+def test_derived_and_info_report_it():
+    sc = physics.Scenario.from_toml(EXAMPLE)
+    d = physics.derived(sc)
+    assert d["h"] == 0.3 and d["auto_fidelity"] == "full" and d["auto_model"] == f"{NAME}/full"
+
+
+def test_a_change_keeps_its_momentum_and_its_readouts_work_with_no_hooks_given():
+    """The carry, the braking readout and ``physics info`` serve a system that declares none of their hooks (no
+    ``parts``, ``start_part``, ``braking_time``, ``quantities``): the defaults, not a missing-hook error."""
+    from physics.info_text import COMMON, describe
+
+    sc = physics.Scenario.from_toml(EXAMPLE)
+    run = physics.LiveRun(sc)
+    run.advance(1.0, samples=2)
+    K, t = run.momentum(), run.t
+    assert run.retune(sc.with_values(**{"rotor.h": 0.6}))  # True: the state was carried, not restarted
+    assert run.t == t and run.scenario.rotor.h == 0.6
+    assert np.linalg.norm(run.momentum() - K) <= 1e-12 * np.linalg.norm(K)
+    assert run.edit.iterations > 0  # h changed K at the same omega: omega was solved for, not just copied
+    assert run.remaining_braking_time() == math.inf
+    assert describe("h", NAME) == ("", "")
+    assert describe("auto_model", NAME) == COMMON["auto_model"]
