@@ -41,6 +41,7 @@ class ComparePanel:
             self.place = gui.add_dropdown("second body", list(PLACES), initial_value=PLACES[0],
                                           hint="beside the first body, or superimposed on it (both translucent)")
         self._seq = 0  # the last compare request: sync waits until the engine has applied it
+        self._busy = False
         self._bind()
 
     def _request(self, spec) -> None:
@@ -58,7 +59,11 @@ class ComparePanel:
             @handle.on_update
             def _(event):
                 if event.client is not None:  # our own assignment of a value: not a user's change
-                    fn()
+                    self._busy = True  # sync leaves the widgets alone until the request is queued
+                    try:
+                        fn()
+                    finally:
+                        self._busy = False
 
         def on_mode():
             mode = self.mode.value
@@ -103,7 +108,7 @@ class ComparePanel:
         labels = self._labels()
         if tuple(self.param.options) != tuple(labels):
             self.param.options = labels
-        applied = self.engine.applied_seq >= self._seq
+        applied = not self._busy and self.engine.applied_seq >= self._seq
         if applied and not isinstance(self.engine.compare, Comparison) and self.mode.value != OFF:
             self.mode.value = OFF
             self.param.visible = self.value.visible = self.fidelity.visible = False

@@ -35,6 +35,7 @@ class CompareView:
         self.name = f"{root}_cmp"
         self.nodes: dict = {}
         self._built = None
+        self.builds = 0
 
     def _signature(self, k: float) -> tuple | None:
         c = self.engine.compare
@@ -42,7 +43,7 @@ class CompareView:
             return None
         sc = c.scenario
         self.place = getattr(self.engine, "compare_place", PLACES[0])  # app.compare_panel's "second body"
-        return (id(c), c.shape, k, self.place, sc.mass is not None, "ux" in c.run.last.internal,
+        return (id(c), c.shape, id(self.engine.mesh), k, self.place, sc.mass is not None, "ux" in c.run.last.internal,
                 len(sc.plane_pendulums) + (sc.pendulum is not None), sc.mass.rho if sc.mass else None)
 
     def _clear(self) -> None:
@@ -56,9 +57,16 @@ class CompareView:
 
     def _build(self, k: float, size: float) -> None:
         self._clear()
-        c, sc, n = self.engine.compare, self.scene, self.name
+        self.builds += 1  # a fresh name each time: a node removed and added again in one batch kept its old pose
+        c, sc, n = self.engine.compare, self.scene, f"{self.name}{self.builds}"
         shape = c.shape
-        vertices, faces = box_mesh(shape.dims) if shape.kind == "box" else cylinder_mesh(shape.radius, shape.height)
+        mesh = self.engine.mesh  # "body drawn as" a mesh: the second body is drawn as the same mesh
+        if mesh is not None:
+            vertices, faces = mesh.vertices, mesh.faces
+        elif shape.kind == "box":
+            vertices, faces = box_mesh(shape.dims)
+        else:
+            vertices, faces = cylinder_mesh(shape.radius, shape.height)
         h = self.nodes
         h["root"] = sc.add_frame(n, show_axes=False, position=OFFSETS[self.place])
         h["body"] = sc.add_frame(f"{n}/body", show_axes=False)

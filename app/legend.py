@@ -97,7 +97,7 @@ def entries(p: SceneParts) -> list[Entry]:
     if p.sphere:  # its colours: app.sphere_view (not imported here: it imports this module)
         out.append(Entry("sphere", "trail", (COLORS["K"],), "sphere, lower left: K in body axes, its path"))
         out.append(Entry("sphere_curves", "line", ((40, 110, 200), (235, 150, 40), (215, 30, 30)),
-                         "on it: free-body energy curves about the largest / smallest axis; separatrix"))
+                         "on it: energy curves; separatrix (red)"))
     return out
 
 

@@ -87,9 +87,10 @@ class Panel:
             self.polhode = gui.add_checkbox("polhode", False, hint="the tip of omega on the inertia ellipsoid, in "
                                             "the body (Poinsot): closed loops when nothing dissipates")
             self.sphere = gui.add_checkbox("momentum sphere", eng.show_sphere,
-                                           hint="beside the body: K's direction in body axes on the sphere |K| = "
-                                           "const, the polhodes (blue about the axis of largest moment), the "
-                                           "separatrix (red) and K's path; with a chart of E and the pure spins")
+                                           hint="lower left of the 3-D view: K's direction in body axes on the "
+                                           "sphere |K| = const, the polhodes (blue about the axis of largest "
+                                           "moment), the separatrix (red) and K's path; with a chart of E and the "
+                                           "pure spins")
             self.body_mesh = gui.add_dropdown("body drawn as", [INERTIA_SHAPE, *asset_names()],
                                               initial_value=INERTIA_SHAPE,
                                               hint="a mesh from assets/meshes: its inertia ratios replace A, B, C "

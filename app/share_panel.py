@@ -22,7 +22,7 @@ import time
 
 import physics
 
-from . import presets
+from . import controls, presets
 from .engine import Engine
 from .share import decode, encode, link
 from .share_link import LINK_KEY, PAGE_KEY
@@ -52,7 +52,7 @@ class SharePanel:
         with gui.add_folder("Share", expand_by_default=False):
             self.share_btn = gui.add_button("Share this scene", hint="a short code, and a link carrying it, that "
                                             "reproduce this scene exactly (slider changes included), from t = 0")
-            self.code = gui.add_text("share code", "", visible=False,
+            self.code = gui.add_text("share code", "", visible=False, multiline=True,  # the whole code in sight
                                      hint="select it all and copy it (Ctrl+A, Ctrl+C); paste it in another tab")
             self.link = gui.add_text("link", "", visible=False, hint="opened in a browser, this page offers the scene")
             self.shared_md = gui.add_markdown("")
@@ -69,7 +69,7 @@ class SharePanel:
             self.load_pasted(self.paste.value)
 
         if restore:
-            threading.Thread(target=self._read_storage, name=f"share-storage-{client.client_id}", daemon=True).start()
+            threading.Thread(target=self._read_storage, name="share-storage", daemon=True).start()
         else:
             self.ready.set()
 
@@ -94,8 +94,8 @@ class SharePanel:
         """Load a pasted code or link; a code that cannot be read is said under the box, and the scene stays."""
         try:
             sc = checked(text)
-        except physics.ScenarioError as exc:
-            self.note_md.content = _red(f"**Not loaded:** {plain(str(exc))}. The scene is unchanged.")
+        except Exception as exc:  # ScenarioError; anything else is said too, never a traceback
+            self.note_md.content = _red(f"**Not loaded:** {plain(why(exc))}. The scene is unchanged.")
             return False
         name = scene_name(sc, SHARED)
         self.engine.request("scenario", (sc, name))
@@ -131,7 +131,9 @@ class SharePanel:
 
     def _read_storage(self) -> None:
         """On connecting: the page's address, the link's scene and the last scene, from the browser's storage."""
-        storage = self.client.local_storage
+        storage = getattr(self.client, "local_storage", None)
+        if storage is None:  # a client without a browser behind it (a test's stand-in): nothing to read or keep
+            return
         try:
             page = storage.get_item(PAGE_KEY, timeout=READ_TIMEOUT)
             linked = storage.get_item(LINK_KEY, timeout=READ_TIMEOUT)
@@ -154,10 +156,10 @@ class SharePanel:
     def _restore(self, stored: str) -> None:
         try:
             sc = checked(stored)
-        except physics.ScenarioError as exc:
+        except Exception as exc:  # ScenarioError; anything else is said too, never a traceback
             self.say("your stored last scene could not be read; ignored")
             self.client.add_notification("Your last scene was not restored", f"The scene this browser kept cannot "
-                                         f"be read ({exc}); the page opened on its usual scene.", color="yellow",
+                                         f"be read ({why(exc)}); the page opened on its usual scene.", color="yellow",
                                          auto_close_seconds=20.0)
             return
         self._hold_seq = self.engine.request("scenario", (sc, scene_name(sc, RESTORED)))
@@ -168,17 +170,17 @@ class SharePanel:
         gui = self.client.gui
         try:
             sc = checked(code)
-        except physics.ScenarioError as exc:
+        except Exception as exc:  # ScenarioError; anything else is said too, never a traceback
             with gui.add_modal("The link's scene cannot be opened") as modal:
                 gui.add_markdown(f"This page was opened with a link carrying a scene that cannot be read: "
-                                 f"{plain(str(exc))}. The scene stays as it is.")
+                                 f"{plain(why(exc))}. The scene stays as it is.")
                 gui.add_button("Close").on_click(lambda _e: modal.close())
             return
         name = scene_name(sc, SHARED)
         with gui.add_modal("Open the shared scene?") as modal:
             gui.add_markdown(f"This page was opened with a link that carries a scene: **{plain(name)}** "
-                             f"({plain(sc.system)}, fidelity {plain(sc.run.fidelity)}). Load it? It starts at "
-                             "t = 0 and replaces the scene shown now.")
+                             f"({plain(system_label(sc.system))}, fidelity {plain(sc.run.fidelity)}). Load it? It "
+                             "starts at t = 0 and replaces the scene shown now.")
             load = gui.add_button("Load the shared scene")
             keep = gui.add_button("Keep the current scene", color="gray")
 
@@ -191,6 +193,11 @@ class SharePanel:
         @keep.on_click
         def _(_event):
             modal.close()
+
+
+def why(exc: Exception) -> str:
+    """A refusal in words: a ScenarioError's own message; any other error by its type too."""
+    return str(exc) if isinstance(exc, physics.ScenarioError) else f"{type(exc).__name__}: {str(exc)[:160]}"
 
 
 def checked(text: object) -> physics.Scenario:
@@ -212,6 +219,11 @@ def scene_name(sc: physics.Scenario, fallback: str) -> str:
         if _preset_scenes is None:
             _preset_scenes = [(n, presets.load_preset(n)) for n in presets.preset_names()]
     return next((n for n, p in _preset_scenes if p == sc), fallback)
+
+
+def system_label(system: str) -> str:
+    """The System dropdown's name of a system ("moving_mass" -> its label)."""
+    return next((label for label, name in controls.SYSTEM_LABELS.items() if name == system), system)
 
 
 def plain(text: str) -> str:

@@ -186,8 +186,10 @@ class MomentumPath:
         body /= np.linalg.norm(body, axis=1, keepdims=True)
         cap = len(self.points)
         added = False
-        for p in body:  # a few to a few dozen samples a frame
-            if self.size and float(np.linalg.norm(p - self.points[self.size - 1])) < MIN_STEP:
+        last = tuple(self.points[self.size - 1]) if self.size else None
+        step2 = MIN_STEP * MIN_STEP
+        for p in body.tolist():  # a few to a few dozen samples a frame: plain floats, a microsecond each
+            if last is not None and (p[0] - last[0]) ** 2 + (p[1] - last[1]) ** 2 + (p[2] - last[2]) ** 2 < step2:
                 continue
             if self.size == cap:  # the oldest half goes at once: a shift per point would cost cap copies each
                 keep = cap // 2
@@ -195,6 +197,7 @@ class MomentumPath:
                 self.size = keep
             self.points[self.size] = p
             self.size += 1
+            last = p
             added = True
         self.now = body[-1].copy()
         if added:

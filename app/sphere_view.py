@@ -13,11 +13,12 @@ from . import sphere
 from .legend import AXIS_COLORS, COLORS
 from .panel import _set
 
-RADIUS = 0.7  # scene units: a bit smaller than the body (app.drawing.SCENE_SIZE = 1.5 across)
-# beside the body, to its lower left on screen from the starting camera (app.drawing: camera at (3, -3.4, 1.9)
-# looking at the origin, so screen right is about (0.75, 0.66, 0)), at the same depth: the panel covers the
-# right of the page and the legend its upper left (seen at 1400x900 and 1024x768)
-POSITION = (-1.5, -1.32, -0.5)
+RADIUS = 0.62  # scene units: a bit smaller than the body (app.drawing.SCENE_SIZE = 1.5 across)
+# in front of the body and to its lower left on screen from the starting camera (app.drawing: camera at
+# (3, -3.4, 1.9) looking at (0, 0, 0.3), 75 degrees of view): the panel covers the page's right and the legend
+# its upper left (app.legend.LEGEND_BOX, down to y = 490 px); here the sphere is centred near (270, 625) px at
+# 1024x768 and (416, 732) px at 1400x900, about 95 and 110 px in radius, just above the grid (z = -1.4)
+POSITION = (0.09, -2.52, -0.7)
 LIFT = 1.004  # curves drawn just outside the sphere: on its surface they would flicker with it (depth fight)
 PATH_LIFT = 1.015  # K's path outside the curves: a free body's K runs along one of them (the flip: the separatrix)
 SPHERE_COLOR = (225, 228, 235)
@@ -48,8 +49,8 @@ class SphereView:
         for i, label in enumerate(AXIS_NAMES):
             scene.add_label(f"{self.name}/axis_{label}", label, position=tuple(1.25 * r * np.eye(3)[i]),
                             font_screen_scale=0.7, anchor="center-center")
-        self.title = scene.add_label(f"{self.name}/title", "K in body axes", position=(0.0, 0.0, 1.45 * r),
-                                     font_screen_scale=0.8, anchor="bottom-center")
+        self.title = scene.add_label(f"{self.name}/title", "K in body axes", position=(0.0, 0.0, -1.3 * r),
+                                     font_screen_scale=0.8, anchor="top-center")  # under it: clear of the legend
         self.curves = scene.add_line_segments(f"{self.name}/polhodes", np.zeros((1, 2, 3)), STABLE_COLOR,
                                               thickness=CURVE_THICKNESS)
         self.separatrix = scene.add_line_segments(f"{self.name}/separatrix", np.zeros((1, 2, 3)), SEPARATRIX_COLOR,

@@ -54,10 +54,16 @@ def shown_charts(page) -> list[dict]:
     return page.evaluate(CHARTS_JS)
 
 
-def test_compare_mode_shows_both_runs_names_them_and_goes_away(page):
+def test_compare_mode_shows_both_runs_names_them_and_goes_away(page, tmp_path):
     page.get_by_text("Compare", exact=True).click()
+    page.wait_for_timeout(300)  # the folder opens
     choose(page, "compare with", "another value of a parameter")  # first offered: m = 0, without the mass
-    both = wait_until(page, lambda: runs(page) if len(runs(page)) == 2 else None, "both runs' readouts")
+    try:
+        both = wait_until(page, lambda: runs(page) if len(runs(page)) == 2 else None, "both runs' readouts")
+    except BaseException:  # what the page showed instead, to tmp_path (never into the repository)
+        page.screenshot(path=str(tmp_path / "compare_not_shown.png"))
+        print("page text:", page.evaluate("() => document.body.innerText")[:3000], "screenshot in", tmp_path)
+        raise
     head = page.evaluate(COMPARE_JS).splitlines()[0]
     assert "run 1: m = 0.2 kg" in head and "run 2: m = 0 kg" in head, head
     one, two = both["run 1"], both["run 2"]

@@ -38,6 +38,10 @@ NOTE_JS = """() => {
     return '';
 }"""
 
+TOP_JS = """() => {
+    for (const p of document.querySelectorAll('p')) if (p.innerText.includes('Quasirigid explorer')) p.scrollIntoView();
+}"""
+
 
 def status(page) -> str:
     return page.evaluate(STATUS_JS)
@@ -46,7 +50,8 @@ def status(page) -> str:
 def text_box(page, label: str):
     """The text input in the row of ``label`` (viser 1.1's text label names an id the input does not carry)."""
     lab = page.locator("label").filter(has_text=re.compile(rf"^{re.escape(label)}$")).first
-    return lab.locator("xpath=ancestor::div[contains(@class, 'mantine-Flex-root')][1]//input").first
+    return lab.locator("xpath=ancestor::div[contains(@class, 'mantine-Flex-root')][1]"
+                       "//*[self::input or self::textarea]").first
 
 
 def open_share(page) -> None:
@@ -76,6 +81,8 @@ def sliders(page) -> dict[str, str]:
 
 def at_t0(page) -> str:
     """The readouts at t = 0, paused, without the scene's name."""
+    page.evaluate(TOP_JS)  # the playback buttons, scrolled to from the Share folder at the panel's bottom
+    page.wait_for_timeout(300)
     click(page, "Pause")
     click(page, "Reset")
     wait_until(page, lambda: read(page, "t") == "0 s", "t = 0 after Reset")
@@ -93,6 +100,8 @@ def first(browser, url):
 
 def test_a_code_shared_in_one_tab_reproduces_the_scene_in_another(first, browser, url, tmp_path):
     code = share_code(first)
+    first.get_by_role("button", name="Load shared code", exact=True).scroll_into_view_if_needed()
+    first.wait_for_timeout(300)
     shot = tmp_path / "share_1400x900.png"
     first.screenshot(path=str(shot))
     assert shot.stat().st_size > 10_000
@@ -142,8 +151,20 @@ def test_a_link_offers_its_scene_and_loads_it_when_asked(first, browser, url, tm
         assert shot.stat().st_size > 10_000
         click(third, "Load the shared scene")
         wait_until(third, lambda: number_box(third, CHI).input_value() == "9.5", "the link's scene loaded")
-        open_share(third)
+        share_code(third)
+        third.get_by_role("button", name="Load shared code", exact=True).scroll_into_view_if_needed()
         third.wait_for_timeout(500)
         third.screenshot(path=str(tmp_path / "share_1024x768.png"))
     finally:
         third.close()
+
+
+def test_a_stored_value_that_does_not_decode_is_ignored_with_a_notice(browser, url):
+    garbage = "window.localStorage.setItem('viser-user:quasirigid.last', 'qr1:garbage');"
+    pg = open_page(browser, url, init_script=garbage)
+    try:
+        wait_until(pg, lambda: "could not be read; ignored" in status(pg), "the status line's notice")
+        pg.get_by_text("Your last scene was not restored").wait_for()
+        assert "preset: Default" in readouts(pg)  # the page's usual scene
+    finally:
+        pg.close()

@@ -191,3 +191,30 @@ def test_undo_to_before_compare_mode_turns_it_off():
     e.request("undo")
     e.tick(DT)
     assert e.compare is None and "before it was turned on" in compare.readout_md(e)
+
+
+def test_the_panel_overlays_both_runs_and_turning_off_restores_one():
+    """Headless panel (tests/test_app_words.py's recording GUI): the overlaid charts' legends name both runs,
+    the single run's charts hide and come back."""
+    from types import SimpleNamespace
+
+    from test_app_words import _RecordingGui
+
+    from app.panel import Panel
+
+    e = Engine()
+    panel = Panel(SimpleNamespace(gui=_RecordingGui(), scene=None, client_id=0), e)
+    e.request("compare", ("mass.m", 0.0))
+    for _ in range(3):
+        panel.update(e.tick(DT), plots_now=True)
+    labels = [s["label"] for h in panel.compare_plots.handles.values() for s in h.series[1:]]
+    assert sum(lab.startswith("m = 0.2 kg: ") for lab in labels) == 3
+    assert sum(lab.startswith("m = 0 kg: ") for lab in labels) == 3
+    assert all(h.visible for h in panel.compare_plots.handles.values())
+    assert not any(h.visible for h in panel.plots.handles.values())
+    assert "run 2: theta = " in panel.compare_md.content
+    e.request("compare", None)
+    for _ in range(2):
+        panel.update(e.tick(DT), plots_now=True)
+    assert panel.compare_md.content == "" and not any(h.visible for h in panel.compare_plots.handles.values())
+    assert panel.plots.handles["theta"].visible and panel.plots.handles["E"].visible

@@ -374,3 +374,23 @@ def test_nothing_is_written_before_the_stored_scene_is_read():
     panel.ready.clear()
     panel.tick()
     assert client.local_storage.writes == []
+
+
+def test_a_refusal_shows_pasted_markup_as_text():
+    eng, client, panel = panel_for(restore=False)
+    panel.load_pasted("<img src=x onerror=alert(1)>[link](javascript:x)")
+    note = panel.note_md.content
+    assert "Not loaded" in note
+    assert "<img" not in note and "](javascript" not in note  # escaped: shown, never rendered
+
+
+def test_any_failure_to_start_the_scene_is_said(monkeypatch):
+    eng, client, panel = panel_for(restore=False)
+
+    def refuses(sc):
+        raise RuntimeError("the kernels are gone")
+
+    monkeypatch.setattr(share_panel.physics, "LiveRun", refuses)
+    assert panel.load_pasted(share.encode(preset(presets.DEFAULT))) is False
+    assert "RuntimeError: the kernels are gone" in panel.note_md.content
+    assert eng._actions == []

@@ -95,3 +95,30 @@ def test_pure_spin_energies():
     e = sphere.pure_spin_energies(np.array([2.0, 3.0]), ASYMMETRIC)
     np.testing.assert_allclose(e[:, 0], [4 / 3.0, 4 / 2.0, 4 / 4.0])
     assert e.shape == (3, 2)
+
+
+def test_the_engine_traces_K_in_body_axes_and_it_crosses_the_curves_towards_the_largest_axis():
+    """The default scene (oblate, a dissipating mass): the path's frozen-body level h = 2E/|K|^2 falls towards
+    1/C, the spin about e3; the path's last point is K now in body axes; hiding the sphere keeps tracing."""
+    from app.engine import Engine
+
+    eng = Engine()
+    eng.warp = 10.0
+    for _ in range(120):
+        eng.tick(1 / 60)
+    eng.request("sphere", False)
+    for _ in range(120):
+        eng.tick(1 / 60)
+    assert eng.show_sphere is False
+    path = eng.sphere_path.values()
+    assert len(path) > 50
+    K = eng.momentum()
+    now = physics.rotate(physics.qconj(eng.run.last.quat[0]), K / np.linalg.norm(K))
+    np.testing.assert_allclose(eng.sphere_path.now, now, atol=1e-12)
+    b = eng.scenario.body
+    h = sphere.level(path, (b.A, b.B, b.C))
+    assert eng.run.t > 30.0
+    assert h[-1] < h[0] - 0.3 * (h[0] - 1 / b.C)  # a third of the way or more down to the steady spin's level
+    eng.request("reset")
+    eng.tick(1 / 60)
+    assert eng.sphere_path.size <= 2  # a new run starts a new path

@@ -30,7 +30,7 @@ OPTIONS = {
     "sweep": ["--vary", "--metric", "--workers", "--dask", "--scaling"],
     "soak": ["--minutes", "--clients", "--churn", "--reconnect", "--trim"],
     "load": ["--clients", "--minutes", "--warmup", "--out"],
-    "explorer-rates": ["seconds", "--out", "--img", "--chart-only"],
+    "explorer-rates": ["seconds", "--out", "--img", "--chart-only", "--compare"],
     "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
 }
 

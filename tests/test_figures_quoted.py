@@ -24,11 +24,17 @@ NEAR = 1500  # characters either side of a figure in which its results file must
 STARTUP = "bench/results/explorer_startup.csv"
 COLD = "bench/results/explorer_startup_cold.csv"
 RATES = "bench/results/explorer_rates.csv"
+RATES_COMPARE = "bench/results/explorer_rates_compare.csv"  # python -m bench explorer-rates 10 --compare
 TARGETS = "bench/results/targets.csv"
 WORK = "bench/results/work_precision.csv"
 SCALING = "bench/results/sweep_scaling.csv"
 SWEEP = "img/sweep_pendulum_k_cd.csv"  # named from docs/, as the page links it
 SOAK = "bench/results/soak_60min.json"
+REL = "docs/reliability.md"
+LOAD = "bench/results/load_10x5.json"  # python -m bench load --clients 10 --minutes 5 --warmup 20 --out ...
+LOAD_SHORT = "bench/results/load_10x05.json"  # the same for 0.5 minutes, --warmup 8
+SOAK_RECONNECT = "bench/results/soak_3min_reconnect.json"  # soak --minutes 3 --churn 0 --reconnect 10 --warmup 30
+SOAK_PRESETS = "bench/results/soak_3min_presets.json"  # soak --minutes 3 --reconnect 0 --churn 5 --warmup 30
 
 
 def rows(name: str) -> list[dict]:
@@ -50,6 +56,55 @@ def soak(key: str) -> float:
     return json.loads((ROOT / SOAK).read_text())[key]
 
 
+def result(name: str) -> dict:
+    """A ``python -m bench load|soak`` JSON result."""
+    return json.loads((ROOT / name).read_text())
+
+
+def clients(name: str, key: str) -> list[float]:
+    """One figure of every client of a load or soak result."""
+    return [c[key] for c in result(name)["clients_detail"]]
+
+
+def load_row(name: str) -> list[tuple[str, object]]:
+    """docs/reliability.md's load table row for one result: (pattern, value) per figure. A span "a-b" is
+    the clients' least and greatest; when they agree the page shows one number, which both patterns read."""
+    row = rf"{re.escape(name)}` \| "
+    lo, hi = r"(\d+\.?\d*)(?:-[\d.]+)?", r"(?:[\d.]+-)?(\d+\.?\d*)"
+    cell = r"[\d.]+(?:-[\d.]+)?"
+    return [
+        (rf"{row}(\d+\.\d+) \|", lambda: result(name)["load_average_1min_median"]),
+        (rf"{row}[\d.]+ \| {lo} \(", lambda: min(clients(name, "median_updates_per_s"))),
+        (rf"{row}[\d.]+ \| {hi} \(", lambda: max(clients(name, "median_updates_per_s"))),
+        (rf"{row}[\d.]+ \| {cell} \({lo}\)", lambda: min(clients(name, "min_updates_per_s"))),
+        (rf"{row}[\d.]+ \| {cell} \({hi}\)", lambda: max(clients(name, "min_updates_per_s"))),
+        (rf"{row}[\d.]+ \| {cell} \({cell}\) \| {lo} %", lambda: 100 * min(clients(name, "seconds_at_target"))),
+        (rf"{row}[\d.]+ \| {cell} \({cell}\) \| {hi} %", lambda: 100 * max(clients(name, "seconds_at_target"))),
+        (rf"{row}[^|]+\|[^|]+\|[^|]+\| (\d+\.\d+) -> ", lambda: result(name)["rss_mb_after_warmup"]),
+        (rf"{row}[^|]+\|[^|]+\|[^|]+\| [\d.]+ -> (\d+\.\d+) MB", lambda: result(name)["rss_mb_end"]),
+        (rf"{row}[^|]+\|[^|]+\|[^|]+\| [\d.]+ -> [\d.]+ MB \(([+-]\d+\.\d+) %\)",
+         lambda: 100 * result(name)["rss_growth"]),
+    ]
+
+
+def soak_row(name: str) -> list[tuple[str, object]]:
+    """docs/reliability.md's 3-minute soak table row for one result: RSS after warm-up -> end (growth)."""
+    row = rf"{re.escape(name)}` \| "
+    return [
+        (rf"{row}(\d+\.\d+) -> ", lambda: result(name)["rss_mb_after_warmup"]),
+        (rf"{row}[\d.]+ -> (\d+\.\d+) MB", lambda: result(name)["rss_mb_end"]),
+        (rf"{row}[\d.]+ -> [\d.]+ MB \(([+-]\d+\.\d+) %\)", lambda: 100 * result(name)["rss_growth"]),
+        (rf"{row}[^|]+\| ([\d.]+) \|", lambda: result(name)["load_average_1min_median"]),
+    ]
+
+
+def reconnection_step() -> float:
+    """The median rise of the server's RSS between samples, over rises of more than 1 MB (a reconnection's
+    session being built), in the reconnections-only soak, MB."""
+    series = [mb for t, mb in result(SOAK_RECONNECT)["rss_mb_series"] if t >= result(SOAK_RECONNECT)["warmup_s"]]
+    return statistics.median(b - a for a, b in zip(series, series[1:], strict=False) if b - a > 1.0)
+
+
 def steady(key: str) -> float:
     return next(c[key] for c in soak("clients_detail") if c["steady"])
 
@@ -58,8 +113,8 @@ def cell(name: str, key: str, index: int) -> float:
     return float(rows(name)[index][key])
 
 
-def rate(quantity: str) -> float:
-    return next(float(r["value"]) for r in rows(RATES) if r["quantity"] == quantity)
+def rate(quantity: str, name: str = RATES) -> float:
+    return next(float(r["value"]) for r in rows(name) if r["quantity"] == quantity)
 
 
 def fastest(problem: str, methods: tuple[str, ...], max_error: float) -> float:
@@ -172,6 +227,15 @@ def linear_exponent() -> float:
     return float(physics.derived(set_R())["decay_rate_linear"])
 
 
+def set_R_coupling() -> float:
+    """MODELS B.10's coupling measure mu D^2/A on set R (physics/reference/problems.py set_R)."""
+    from physics.reference.problems import set_R
+    from physics.systems.pendulum import averaged
+
+    p = averaged.spherical_linear(averaged.pendulum_system(set_R()))
+    return p.mu * p.D**2 / p.A
+
+
 # docs/figures.md's data (python -m bench figures), named from docs/ as the page links them
 FIG1 = "img/seed000_fig1.csv"
 FIGS4 = "img/seed004_figs1-4.csv"
@@ -219,6 +283,18 @@ FIGURES = [
     ("README.md", r"compiled kernels took over (\d+\.\d+) s after a cold start", COLD,
      lambda: median(COLD, "fast_integrator_s", cache="cold")),
     # the explorer's rates (python -m bench explorer-rates)
+    ("README.md", r"default scene\s+(\d+\.\d+) frames published per s at 1x and", RATES_COMPARE,
+     lambda: rate("frames published per s at 1x, two bodies", RATES_COMPARE)),
+    ("README.md", r"per s at 1x and (\d+\.\d+) at 1000x \(a frame", RATES_COMPARE,
+     lambda: rate("frames published per s at 1000x, two bodies", RATES_COMPARE)),
+    ("README.md", r"a frame took (\d+\.\d+) and", RATES_COMPARE,
+     lambda: rate("frame (tick + publish) ms at 1x, two bodies, median", RATES_COMPARE)),
+    ("README.md", r"a frame took \d+\.\d+ and (\d+\.\d+) ms median", RATES_COMPARE,
+     lambda: rate("frame (tick + publish) ms at 1000x, two bodies, median", RATES_COMPARE)),
+    ("README.md", r"against (\d+\.\d+) and\s+\d+\.\d+\s+with one body", RATES_COMPARE,
+     lambda: rate("frames published per s at 1x", RATES_COMPARE)),
+    ("README.md", r"against \d+\.\d+ and\s+(\d+\.\d+)\s+with one body", RATES_COMPARE,
+     lambda: rate("frames published per s at 1000x", RATES_COMPARE)),
     ("README.md", r"about 1: (\d+\.\d+) frames published per s at 1x", RATES,
      lambda: rate("frames published per s at 1x")),
     ("README.md", r"frames published per s at 1x,\s+(\d+\.\d+) at 1000x", RATES,
@@ -271,6 +347,30 @@ FIGURES = [
     ("docs/reliability.md", r"it had 30 or more in (\d+\.\d+) % of its seconds", SOAK,
      lambda: 100 * steady("seconds_at_target")),
     ("docs/reliability.md", r"Its worst second was (\d+), so", SOAK, lambda: steady("min_updates_per_s")),
+    # the load test's table and what follows it (python -m bench load, the commands in the table)
+    *[(REL, pattern, name, compute)
+      for name in (LOAD, LOAD_SHORT) for pattern, compute in load_row(name)],
+    (REL, r"only about (\d+) frames per second per session", LOAD,
+     lambda: result(LOAD)["server_frames"] / result(LOAD)["seconds"] / result(LOAD)["clients"]),
+    (REL, r"session \(([\d,]+) frames in the 5-minute run\)", LOAD, lambda: result(LOAD)["server_frames"]),
+    (REL, r"received at least (\d+\.\d+) of its session's frames", LOAD,
+     lambda: result(LOAD)["min_delivered_fraction"]),
+    (REL, r"Sessions opened and closed were (\d+) and", LOAD, lambda: result(LOAD)["sessions_opened"]),
+    (REL, r"Sessions opened and closed were \d+ and (\d+),", LOAD,
+     lambda: result(LOAD)["sessions_closed"]),
+    (REL, r"A frame now takes a median of (\d+\.\d+) ms to tick", LOAD,
+     lambda: result(LOAD)["median_tick_ms"]),
+    (REL, r"ms to tick and (\d+\.\d+) ms to publish", LOAD, lambda: result(LOAD)["median_publish_ms"]),
+    # the 3-minute soaks' table (python -m bench soak, the commands in the table)
+    *[(REL, pattern, name, compute)
+      for name in (SOAK_RECONNECT, SOAK_PRESETS) for pattern, compute in soak_row(name)],
+    (REL, r"RSS rose by about (\d+) MB at each reconnection", SOAK_RECONNECT, reconnection_step),
+    (REL, r"`rss_mb_series`\); (\d+) sessions were opened", SOAK_RECONNECT,
+     lambda: result(SOAK_RECONNECT)["sessions_opened"]),
+    (REL, r"`rss_mb_series`\); \d+ sessions were opened and (\d+) closed", SOAK_RECONNECT,
+     lambda: result(SOAK_RECONNECT)["sessions_closed"]),
+    (REL, r"With preset loads only \((\d+) loads\)", SOAK_PRESETS, lambda: result(SOAK_PRESETS)["churned_presets"]),
+    (REL, r"a preset load every 10 s, \+(\d+\.\d+) % with no trend", SOAK, lambda: 100 * soak("rss_growth")),
     # docs/figures.md, the reproduced figures (python -m bench figures, full mode)
     (F, r"`sigma = \+0.02` ends at (\d+\.\d+) rad", FIG1, lambda: end(FIG1, "a: (3.8) sigma=+0.02")),
     (F, r"\(pi/2 = 1.571\) and `-0.02` at (\d+\.\d+)", FIG1, lambda: end(FIG1, "a: (3.8) sigma=-0.02")),
@@ -325,6 +425,10 @@ FIGURES = [
     ("docs/sweeps.md", r"The fastest decay, (\d+\.\d+) s, is", SWEEP, lambda: best_decay("decay_time")),
     ("docs/sweeps.md", r"is at k = (\d+) N m/rad", SWEEP, lambda: best_decay("pendulum.k")),
     ("docs/sweeps.md", r"at a finite damping, c_d = (\d+\.\d+) N m s/rad", SWEEP, lambda: best_decay("pendulum.c_d")),
+    # docs/models.md: not a results file either; set R's coupling and its two rates, computed as the page names them
+    ("docs/models.md", r"`mu D\^2/A = (\d\.\d+)`, yet the averaged", "physics/reference/problems.py", set_R_coupling),
+    ("docs/models.md", r"slowest decay rate is (\d+) % below linear theory's exact one",
+     "AveragedCoefficients.slowest_rate", lambda: 100 * (1 - averaged_exponent() / linear_exponent())),
 ]
 
 
