@@ -8,7 +8,7 @@ import dataclasses
 
 import physics
 
-from . import controls, edits, presets
+from . import controls, edits, parts, presets
 from .buffers import RECENT, VIEWS, WHOLE_RUN
 from .clock import FRAME_HZ
 from .compare import set_compare, undo_compare
@@ -145,7 +145,7 @@ class ActionsMixin:
         self._apply_values({controls.TUNE_KEY: "resonant"})
 
     def _bob(self, value) -> None:
-        n = len(self.scenario.plane_pendulums)
+        n = len(parts.array_items(self.scenario))
         self.bob = None if value in (None, "all") or n == 0 else min(max(int(value), 0), n - 1)
         self.values.update({k: v for k, v in controls.values_of(self.scenario, self.bob).items()
                             if k.startswith("pendulum.")})

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import parts
 from .compare import PLACES, frame_of
 from .legend import COLORS
 from .panel import _set
@@ -44,7 +45,7 @@ class CompareView:
         sc = c.scenario
         self.place = getattr(self.engine, "compare_place", PLACES[0])  # app.compare_panel's "second body"
         return (id(c), c.shape, id(self.engine.mesh), k, self.place, sc.mass is not None, "ux" in c.run.last.internal,
-                len(sc.plane_pendulums) + (sc.pendulum is not None), sc.mass.rho if sc.mass else None)
+                parts.bob_count(sc), sc.mass.rho if sc.mass else None)
 
     def _clear(self) -> None:
         for key in ("root", "first"):  # the root's children go with it
@@ -76,7 +77,7 @@ class CompareView:
             h["mass"] = sc.add_icosphere(f"{n}/body/mass", radius=0.045 * size, color=COLORS["mass"], opacity=0.7)
             h["spring"] = sc.add_line_segments(f"{n}/body/spring", np.zeros((1, 2, 3)), COLORS["spring"],
                                                thickness=0.006 * size)
-        for i in range(len(c.scenario.plane_pendulums) + (c.scenario.pendulum is not None)):
+        for i in range(parts.bob_count(c.scenario)):
             h[f"arm{i}"] = sc.add_line_segments(f"{n}/body/arm{i}", np.zeros((1, 2, 3)), COLORS["arm"],
                                                 thickness=0.01 * size)
             h[f"bob{i}"] = sc.add_icosphere(f"{n}/body/bob{i}", radius=0.035 * size, color=COLORS["bob"], opacity=0.7)

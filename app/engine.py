@@ -18,7 +18,7 @@ import numpy as np
 
 import physics
 
-from . import controls, edits, presets
+from . import controls, edits, parts, presets
 from .actions import ActionsMixin, with_fidelity
 from .buffers import (
     EDITS_LISTED,
@@ -165,7 +165,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         """What the static meshes depend on; the session redraws them when it changes."""
         sc = self.scenario
         return (self.shape, tuple(self.ellipsoid()), sc.mass.rho if sc.mass else None,
-                sc.cavity.a0 if sc.cavity else None, len(sc.plane_pendulums) + (sc.pendulum is not None))
+                sc.cavity.a0 if sc.cavity else None, parts.bob_count(sc))
 
     def mark_drawn(self) -> None:
         self._drawn = self.static_signature()

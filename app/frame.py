@@ -12,6 +12,7 @@ import numpy as np
 
 from physics import qmul, rotate
 
+from . import parts
 from .mass_view import drawn_displacement
 from .scene import E3, ellipsoid_axes, mass_points, plane_bob, spherical_bob
 
@@ -90,7 +91,7 @@ class FrameMixin:
             b = last.internal.get("beta", [0.0])[0]
             chart = last.internal.get("chart", [0.0])[0]  # the angles' chart (near the gimbal pole: 1)
             fr.bobs = [spherical_bob(sc.pendulum.h, sc.pendulum.l, a, b, chart)]
-        for i, pp in enumerate(sc.plane_pendulums):
+        for i, pp in enumerate(parts.array_items(sc)):
             a = last.internal.get(f"a{i + 1}", [0.0])[0]
             fr.bobs.append(plane_bob(*pp.geometry(), pp.l, a))
         fr.trail = self.trail.values() * 0.9 * size  # the e3 arrow's tip draws it

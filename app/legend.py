@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from . import parts
+
 COLORS = {"body": (120, 150, 200), "ellipsoid": (240, 200, 80), "mass": (220, 40, 40), "rest": (60, 60, 60),
           "spring": (40, 40, 40), "K": (30, 160, 60), "omega": (40, 90, 230), "axis": (120, 120, 120),
           "torque": (220, 60, 200), "trail": (230, 120, 20), "polhode": (150, 40, 200), "bob": (200, 30, 30),
@@ -55,7 +57,7 @@ def parts_of(scenario, *, view: str = "inertial", polhode: bool = False, mesh: s
         braking = control is not None and float(getattr(control, "b", 0.0)) > 0
     return SceneParts(mass=scenario.mass is not None, mass_moves=mass_moves, exaggeration=float(exaggeration),
                       cavity=scenario.cavity is not None,
-                      bobs=len(scenario.plane_pendulums) + (scenario.pendulum is not None),
+                      bobs=parts.bob_count(scenario),
                       spherical=scenario.pendulum is not None, braking=bool(braking),
                       polhode=bool(polhode), sphere=bool(sphere), view=view, mesh=mesh)
 

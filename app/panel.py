@@ -10,7 +10,7 @@ import viser
 
 import physics
 
-from . import controls, edits, plots, presets, words
+from . import controls, edits, parts, plots, presets, words
 from .compare import readout_md as compare_readout_md
 from .compare_panel import ComparePanel
 from .compare_plots import ComparePlots
@@ -28,9 +28,10 @@ EDITED = " (edited)"  # the preset dropdown's name for a preset changed since it
 class Panel:
     """The GUI of one browser tab."""
 
-    def __init__(self, client: viser.ClientHandle, engine: Engine):
+    def __init__(self, client: viser.ClientHandle, engine: Engine, restore: bool = True):
         self.client = client
         self.engine = engine
+        self.restore = restore  # whether the browser's last scene may replace the one the tab starts with
         self._build_gui()
 
     def _build_gui(self) -> None:
@@ -102,7 +103,7 @@ class Panel:
             self.upload = gui.add_upload_button("Load scenario (TOML)", mime_type=".toml",
                                                 hint="a scenario file, as `python -m physics` reads (64 kB at most)")
             self.replay = ReplayButton(gui, eng, self.client)  # the scene as an offline HTML replay (app.export)
-        self.share = SharePanel(gui, eng, self.client)  # share code, link, last scene kept (app.share_panel)
+        self.share = SharePanel(gui, eng, self.client, restore=self.restore)  # code, link, last scene (share_panel)
         self._lazy_panel("Speed vs accuracy", "speed_panel", "SpeedPanel",
                          lambda sc: eng.request("scenario", (sc, f"{eng.preset} (recommended method)")))
         self._lazy_panel("Sweep", "sweep_panel", "SweepPanel",
@@ -202,7 +203,7 @@ class Panel:
         for title, folder in self.folders.items():
             _set(folder, "visible", title in shown)
         _set(self.tune_btn, "visible", controls.owns_table(system, controls.TUNE_KEY))
-        n = len(eng.scenario.plane_pendulums)
+        n = len(parts.array_items(eng.scenario))
         _set(self.bob, "visible", n > 0)
         if n > 0:
             _set(self.bob, "options", ("all", *(str(i + 1) for i in range(n))))

@@ -11,7 +11,7 @@ import physics
 
 ASSETS = Path(__file__).resolve().parents[1] / "assets" / "scenarios"
 FIGURES = ASSETS / "figures"
-TITLE_LINE = "# preset: "  # the first line of a figure preset file (bench/figures.py PRESET_HEADER)
+TITLE_LINE = "# preset: "  # the first line of a preset file: its title (bench/figures.py PRESET_HEADER writes it too)
 DEFAULT = "Default: oblate body settling (1 min)"
 
 # Scenes without a file. Each is a scenario dict in the TOML layout (README "Use").
@@ -49,26 +49,13 @@ BUILT_IN: dict[str, dict] = {
     },
 }
 
-FILE_TITLES = {
-    "oblate_settling": "Oblate body settling",
-    "prolate_flat_spin": "Explorer 1's flat spin",
-    "braking_cavity_medium": "Braking with a fluid cavity and a resisting medium",
-    "quadratic_friction": "Moving mass with drag-like (quadratic) friction",
-    "pendulum_resonant": "Large spinning body, pendulum damper tuned to resonance",
-    "pendulum_detuned": "Large spinning body, pendulum damper detuned (half the nutation frequency)",
-    "pendulum_asymmetric": "Asymmetric body with a resonant pendulum damper",
-    "pendulum_prolate": "Prolate body: the pendulum damper makes the nutation grow",
-    "plane_pendulums_three": "Taylor's damper: three plane pendulums",
-}
 
 
 def _title(path: Path) -> str:
-    if path.parent == FIGURES:
-        with path.open(encoding="utf-8") as fh:
-            first = fh.readline().strip()
-        if first.startswith(TITLE_LINE):
-            return first[len(TITLE_LINE):].strip()
-    return FILE_TITLES.get(path.stem, path.stem)
+    """A scenario file's title: its first line ``# preset: TITLE``, else its name."""
+    with path.open(encoding="utf-8") as fh:
+        first = fh.readline().strip()
+    return first[len(TITLE_LINE):].strip() if first.startswith(TITLE_LINE) else path.stem
 
 
 FIGURE_ORDER = ("seed000", "seed004", "seed002")  # docs/figures.md's order

@@ -42,6 +42,7 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
 def _title(path: Path, text: str) -> str:
     """The file's name and its first comment line, which says what the scene is."""
     first = next((line.lstrip("#").strip() for line in text.splitlines() if line.startswith("#")), "")
+    first = first.removeprefix("preset:").strip()  # a preset file's title line
     title = f"{path.name}: {first}" if first else path.name
     return title if len(title) <= TITLE_CHARS else title[: TITLE_CHARS - 3] + "..."
 

@@ -44,7 +44,8 @@ class Session:
         self.published = 0
         self.first_frame_after: dict[int, float] = {}  # change seq -> latency (s) of its first frame
         self.frame_ms: deque = deque(maxlen=600)  # (tick, publish) wall ms of recent frames
-        self.panel = Panel(client, self.engine)
+        # a server started on a scenario or mesh of its own shows that, not the browser's last scene
+        self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None)
         cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
         self.drawing = Drawing(client, self.engine)
         self.thread = threading.Thread(target=self._loop, name=f"session-{client.client_id}", daemon=True)

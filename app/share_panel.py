@@ -39,7 +39,7 @@ _MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+!|~])")
 class SharePanel:
     """The Share folder (built into the panel being built) and the storage of the tab's last scene."""
 
-    def __init__(self, gui, engine: Engine, client, restore: bool = True):
+    def __init__(self, gui, engine: Engine, client, restore: bool = True, read: bool = True):
         self.engine = engine
         self.client = client
         self.page_url: str | None = None  # the page's address, read from the browser's storage
@@ -68,7 +68,8 @@ class SharePanel:
         def _(_event):
             self.load_pasted(self.paste.value)
 
-        if restore:
+        self.restore = restore  # False when the server was started on a scene of its own: that scene is shown
+        if read:  # (a test reads on its own thread)
             threading.Thread(target=self._read_storage, name="share-storage", daemon=True).start()
         else:
             self.ready.set()
@@ -146,7 +147,7 @@ class SharePanel:
         try:
             if isinstance(page, str) and re.fullmatch(r"https?://[^\s?#]{1,2000}", page):
                 self.page_url = page
-            if last is not None:
+            if last is not None and self.restore:
                 self._restore(last)
             if linked is not None:
                 self._offer(linked)
@@ -222,7 +223,7 @@ def scene_name(sc: physics.Scenario, fallback: str) -> str:
 
 
 def system_label(system: str) -> str:
-    """The System dropdown's name of a system ("moving_mass" -> its label)."""
+    """The System dropdown's name of a system (its registered name -> its label)."""
     return next((label for label, name in controls.SYSTEM_LABELS.items() if name == system), system)
 
 

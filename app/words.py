@@ -10,9 +10,8 @@ from __future__ import annotations
 import math
 import re
 
-# physics.validity_conditions names (physics/systems/moving_mass/validity.py,
-# physics/systems/pendulum/averaged.py) -> what each condition means for the motion; a name missing here is
-# shown as physics gives it
+# physics.validity_conditions names (each system's validity conditions) -> what each condition means for the
+# motion; a name missing here is shown as physics gives it
 CONDITION_WORDS = {
     "eps = |w0|/Omega": "the spring is fast next to the spin",
     "chi |w0| / Omega^2": "the damping of the mass is light",

@@ -280,7 +280,7 @@ class Client:
 def panel_for(items=None, restore=True):
     eng = Engine()
     client = Client(items)
-    panel = share_panel.SharePanel(client.gui, eng, client, restore=False)
+    panel = share_panel.SharePanel(client.gui, eng, client, read=False)
     if restore:
         panel.ready.clear()
         panel._read_storage()  # what the tab's storage thread does, here on the test's thread
@@ -394,3 +394,20 @@ def test_any_failure_to_start_the_scene_is_said(monkeypatch):
     assert panel.load_pasted(share.encode(preset(presets.DEFAULT))) is False
     assert "RuntimeError: the kernels are gone" in panel.note_md.content
     assert eng._actions == []
+
+
+def test_a_server_started_on_its_own_scene_keeps_it_over_the_browsers_last():
+    """``python -m app --scenario FILE`` shows FILE: the stored last scene is not restored (a link is still offered)."""
+    stored = share.encode(physics.default_scenario().with_values(**{"mass.chi": 9.5}))
+    eng = Engine()
+    client = Client({share_panel.SAVE_KEY: stored})
+    panel = share_panel.SharePanel(client.gui, eng, client, restore=False, read=False)
+    panel.ready.clear()
+    panel._read_storage()
+    eng.tick(0.0)
+    assert eng.scenario.mass.chi != 9.5 and "restored" not in panel.status()
+    restoring = share_panel.SharePanel(client.gui, Engine(), client, read=False)
+    restoring.ready.clear()
+    restoring._read_storage()
+    restoring.engine.tick(0.0)
+    assert restoring.engine.scenario.mass.chi == 9.5 and "restored" in restoring.status()

@@ -56,6 +56,17 @@ def soak(key: str) -> float:
     return json.loads((ROOT / SOAK).read_text())[key]
 
 
+def soak_series_after_warmup() -> list[float]:
+    """The hour's RSS samples (MB) taken after its warm-up."""
+    data = json.loads((ROOT / SOAK).read_text())
+    return [rss for t, rss in data["rss_mb_series"] if t >= data["warmup_s"]]
+
+
+def meta(name: str) -> dict:
+    """A benchmark's ``.meta.json`` (command, machine, load average before and after the run)."""
+    return json.loads((ROOT / name).read_text())
+
+
 def result(name: str) -> dict:
     """A ``python -m bench load|soak`` JSON result."""
     return json.loads((ROOT / name).read_text())
@@ -130,6 +141,62 @@ NUMPY = ("scipy DOP853 (numpy rhs)",)
 def scaling(workload: str, executor: str, workers: str, key: str) -> float:
     (value,) = col(SCALING, key, workload=workload, executor=executor, workers=workers)
     return value
+
+
+def over(executor: str, key: str) -> list[float]:
+    """One column of an executor's rows of the scaling study, both workloads and both worker counts."""
+    return col(SCALING, key, executor=executor)
+
+
+def scaling_load() -> list[float]:
+    """The scaling study's load averages (1, 5 and 15 min), before and after its run."""
+    data = meta("bench/results/sweep_scaling.meta.json")
+    return data["load_average_before"] + data["load_average_after"]
+
+
+def targets_theta_error(which: str) -> float:
+    """The averaged-vs-full row's theta error or its bound (rad), as targets.csv's `ours` cell states them."""
+    cell_text = rows(TARGETS)[2]["ours"]
+    pattern = r"theta error ([\d.e+-]+)" if which == "error" else r"\(bound ([\d.e+-]+)\)"
+    return float(re.search(pattern, cell_text).group(1))
+
+
+def guide_decay_time() -> float:
+    """Linear theory's decay time 1/rate (s) of the detuned pendulum preset, as `physics info` prints it."""
+    import physics
+
+    sc = physics.Scenario.load(ROOT / "assets/scenarios/pendulum_detuned.toml")
+    return 1.0 / float(physics.derived(sc)["decay_rate_linear"])
+
+
+def default_scene_energy() -> tuple[float, float]:
+    """The default scene's starting E (J) and the K^2/2C it falls towards: a 1 s run of physics.simulate."""
+    import physics
+
+    sc = physics.default_scenario()
+    run = physics.simulate(sc.with_values(**{"run.t_end": 1.0}))
+    return float(run.E[0]), float(run.K[0]) ** 2 / (2 * sc.body.C)
+
+
+def preset_eps(path: str | None) -> float:
+    """``eps`` as `python -m physics info` prints it, for a shipped scenario or (None) the default scene."""
+    import physics
+
+    sc = physics.default_scenario() if path is None else physics.Scenario.load(ROOT / path)
+    return float(physics.derived(sc)["eps"])
+
+
+def closed_vs_integrated() -> float:
+    """Seed 000 Fig. 1: the largest gap (rad) between the integrated (3.2) circles and the (3.8) curve at the
+    same slow time, over both panels and every sigma of the CSV."""
+    worst = 0.0
+    for panel in "ab":
+        for sigma in ("0.02", "0.2", "1", "5", "50"):
+            for sign in "+-":
+                closed = dict(curve(FIG1, f"{panel}: (3.8) sigma={sign}{sigma}"))
+                worst = max(worst, *(abs(y - closed[x])
+                                     for x, y in curve(FIG1, f"{panel}: (3.2) integrated sigma={sign}{sigma}")))
+    return worst
 
 
 def best_decay(key: str) -> float:
@@ -295,7 +362,15 @@ FIGURES = [
      lambda: rate("frames published per s at 1x", RATES_COMPARE)),
     ("README.md", r"against \d+\.\d+ and\s+(\d+\.\d+)\s+with one body", RATES_COMPARE,
      lambda: rate("frames published per s at 1000x", RATES_COMPARE)),
-    ("README.md", r"about 1: (\d+\.\d+) frames published per s at 1x", RATES,
+    ("README.md", r"explorer-rates 10`, load average (\d+\.\d+)-", "explorer_rates.meta.json",
+     lambda: meta("bench/results/explorer_rates.meta.json")["load1_before"]),
+    ("README.md", r"explorer-rates 10`, load average [\d.]+-(\d+\.\d+):", "explorer_rates.meta.json",
+     lambda: meta("bench/results/explorer_rates.meta.json")["load1_after"]),
+    ("README.md", r"in the same run, on 2 cores at load average (\d+\.\d+)-", "explorer_rates_compare.meta.json",
+     lambda: meta("bench/results/explorer_rates_compare.meta.json")["load1_before"]),
+    ("README.md", r"in the same run, on 2 cores at load average [\d.]+-(\d+\.\d+)", "explorer_rates_compare.meta.json",
+     lambda: meta("bench/results/explorer_rates_compare.meta.json")["load1_after"]),
+    ("README.md", r"1\.\d: (\d+\.\d+) frames published per s at 1x", RATES,
      lambda: rate("frames published per s at 1x")),
     ("README.md", r"frames published per s at 1x,\s+(\d+\.\d+) at 1000x", RATES,
      lambda: rate("frames published per s at 1000x")),
@@ -340,8 +415,13 @@ FIGURES = [
     ("docs/reliability.md", r"with a maximum of (\d+\.\d+) MB. The load", SOAK, lambda: soak("rss_mb_max")),
     ("docs/reliability.md", r"The load average had a median of (\d+\.\d+)", SOAK,
      lambda: soak("load_average_1min_median")),
-    ("docs/reliability.md", r"(\d+) preset loads, about", SOAK, lambda: soak("churned_presets")),
-    ("docs/reliability.md", r"reconnections and ([\d,]+) frames published", SOAK, lambda: soak("server_frames")),
+    ("docs/reliability.md", r"(\d+) preset loads, a reconnection", SOAK, lambda: soak("churned_presets")),
+    ("docs/reliability.md", r"a reconnection every \d+ s and ([\d,]+) frames published", SOAK,
+     lambda: soak("server_frames")),
+    ("docs/reliability.md", r"a reconnection every (\d+) s and [\d,]+ frames published", SOAK,
+     lambda: soak("reconnect_every")),
+    ("docs/reliability.md", r"stays between (\d+\.\d+) and [\d.]+ MB", SOAK, lambda: min(soak_series_after_warmup())),
+    ("docs/reliability.md", r"stays between [\d.]+ and (\d+\.\d+) MB", SOAK, lambda: max(soak_series_after_warmup())),
     ("docs/reliability.md", r"The steady client's median was (\d+) updates/s", SOAK,
      lambda: steady("median_updates_per_s")),
     ("docs/reliability.md", r"it had 30 or more in (\d+\.\d+) % of its seconds", SOAK,
@@ -429,6 +509,59 @@ FIGURES = [
     ("docs/models.md", r"`mu D\^2/A = (\d\.\d+)`, yet the averaged", "physics/reference/problems.py", set_R_coupling),
     ("docs/models.md", r"slowest decay rate is (\d+) % below linear theory's exact one",
      "AveragedCoefficients.slowest_rate", lambda: 100 * (1 - averaged_exponent() / linear_exponent())),
+    # README: the averaged model's error on P2 and its bound, as bench/results/targets.csv records them (1e-4 rad)
+    ("README.md", r"theta error (\d\.\d)e-4, inside", TARGETS, lambda: 1e4 * targets_theta_error("error")),
+    ("README.md", r"inside its O\(eps\^2\) bound (\d\.\d)e-4", TARGETS, lambda: 1e4 * targets_theta_error("bound")),
+    # docs/sweeps.md: the scaling study's per-point costs and start-up ranges (python -m bench sweep --scaling)
+    ("docs/sweeps.md", r"(\d+\.\d+) ms of CPU a point in a warm process", SCALING,
+     lambda: 1e3 * scaling("light", "serial", "1", "compute_per_point_s")),
+    ("docs/sweeps.md", r"on the full model, (\d+) ms a point", SCALING,
+     lambda: 1e3 * scaling("heavy", "serial", "1", "compute_per_point_s")),
+    ("docs/sweeps.md", r"\*\*fork\*\*: start-up (\d+\.\d+)-", SCALING, lambda: min(over("fork", "startup_s"))),
+    ("docs/sweeps.md", r"\*\*fork\*\*: start-up [\d.]+-(\d+\.\d+) s", SCALING, lambda: max(over("fork", "startup_s"))),
+    ("docs/sweeps.md", r"\*\*forkserver\*\*: start-up (\d+\.\d+)-", SCALING,
+     lambda: min(over("forkserver", "startup_s"))),
+    ("docs/sweeps.md", r"\*\*forkserver\*\*: start-up [\d.]+-(\d+\.\d+) s", SCALING,
+     lambda: max(over("forkserver", "startup_s"))),
+    ("docs/sweeps.md", r"LocalCluster\*\*: start-up (\d+\.\d+)-", SCALING,
+     lambda: min(over("dask-local", "startup_s"))),
+    ("docs/sweeps.md", r"LocalCluster\*\*: start-up [\d.]+-(\d+) s", SCALING,
+     lambda: max(over("dask-local", "startup_s"))),
+    ("docs/sweeps.md", r"of wall time and (\d+\.\d+)-[\d.]+ s of CPU", SCALING,
+     lambda: min(over("dask-local", "cpu_startup_s"))),
+    ("docs/sweeps.md", r"of wall time and [\d.]+-(\d+\.\d+) s of CPU", SCALING,
+     lambda: max(over("dask-local", "cpu_startup_s"))),
+    ("docs/sweeps.md", r"\); (\d+)-\d+ ms of CPU per point", SCALING,
+     lambda: 1e3 * min(over("dask-local", "cpu_overhead_per_point_s"))),
+    ("docs/sweeps.md", r"\); \d+-(\d+) ms of CPU per point", SCALING,
+     lambda: 1e3 * max(over("dask-local", "cpu_overhead_per_point_s"))),
+    ("docs/sweeps.md", r"\(load average (\d+) to \d+, in `sweep_scaling", "sweep_scaling.meta.json",
+     lambda: min(scaling_load())),
+    ("docs/sweeps.md", r"\(load average \d+ to (\d+), in `sweep_scaling", "sweep_scaling.meta.json",
+     lambda: max(scaling_load())),
+    # docs/figures.md: Fig. 4's late turn-down at Gamma2 = 1, peak minus end of its curve (1e-9 rad)
+    (F, r"theta turns down by (\d)e-9 rad \(peak to end\)", FIGS4,
+     lambda: 1e9 * (max(y for _x, y in curve(FIGS4, "Fig.4 curve 1 G1=0.001 G2=1 k*=1"))
+                    - end(FIGS4, "Fig.4 curve 1 G1=0.001 G2=1 k*=1"))),
+    (F, r"They match \(3.8\) to (\d)e-8 rad \(the largest gap in the CSV\)", FIG1,
+     lambda: 1e8 * closed_vs_integrated()),
+    (F, r"eps = (\d\.\d+)\) and [\d.]+ rad \(prolate", "seed004_fig1_",
+     lambda: preset_eps("assets/scenarios/figures/seed004_fig1_oblate.toml")),
+    (F, r"\(prolate, eps = (\d\.\d+);", "seed004_fig1_",
+     lambda: preset_eps("assets/scenarios/figures/seed004_fig1_prolate.toml")),
+    (F, r"the full-model point at 1.3 \((\d+\.\d+) s decay time", RESONANCE, lambda: full_point(1.3)),
+    (F, r"s decay time, against (\d+\.\d+) s at resonance", RESONANCE, lambda: full_point(1.0)),
+    (F, r"the Fig. 1 pair at the (\d+\.\d+) and [\d.]+ rad quoted above", PHYSICAL,
+     lambda: end(PHYSICAL, "Fig.1 oblate curve 3")),
+    (F, r"the Fig. 1 pair at the [\d.]+ and (\d+\.\d+) rad quoted above", PHYSICAL,
+     lambda: end(PHYSICAL, "Fig.1 prolate curve 3")),
+    # docs/guide.md's tutorial: not a results file; linear theory's decay time of the preset it loads
+    ("docs/guide.md", r"decay time 1/rate = (\d+) s", "assets/scenarios/pendulum_detuned.toml", guide_decay_time),
+    ("docs/guide.md", r"`eps = abs\(w0\)/Omega = (\d\.\d+)`", "default scene", lambda: preset_eps(None)),
+    ("docs/guide.md", r"\*\*Oblate body settling\*\* \(`eps = (\d\.\d+)`\)", "Oblate body settling",
+     lambda: preset_eps("assets/scenarios/oblate_settling.toml")),
+    ("docs/guide.md", r"while `E` falls from (\d\.\d) J towards", "default scene", lambda: default_scene_energy()[0]),
+    ("docs/guide.md", r"towards `K²/2C` = (\d\.\d+) J", "default scene", lambda: default_scene_energy()[1]),
 ]
 
 

@@ -173,6 +173,15 @@ def test_the_model_battery_runs_it():
         battery.test_models_start_from_the_same_rotation(name)
 
 
+def test_the_explorer_lists_it_with_its_slider():
+    from app import controls
+
+    assert controls.SYSTEM_LABELS["body with a rotor"] == NAME
+    assert "rotor.h" in controls.BY_KEY and NAME in controls.BY_KEY["rotor.h"].systems
+    sc = physics.Scenario.from_toml(EXAMPLE)
+    assert controls.apply_changes(sc, {"rotor.h": 0.5}).rotor == Rotor(0.5)
+
+
 def test_derived_and_info_report_it():
     sc = physics.Scenario.from_toml(EXAMPLE)
     d = physics.derived(sc)
