@@ -113,6 +113,7 @@ class ActionsMixin:
         self.fidelity_choice = value
         self.error = ""
         if kept:
+            self.log_retune(sc)
             self.overlay_dirty = True
             self.scene_changed = True  # the full model draws the moving mass; the averaged one has none
         else:

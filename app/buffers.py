@@ -7,5 +7,6 @@ TRAIL_POINTS = 1200
 HISTORY_ROWS = 20000  # trajectory rows the CSV export keeps from t = 0 (app.history thins them as the run goes on)
 WHOLE_RUN_POINTS = 2000  # points the whole-run plots keep from t = 0: uPlot redraws them at the plots' rate
 EDITS_LISTED = 5  # changes an export or a caption names one by one
+RETUNES_KEPT = 2000  # changes the run went on through that a replay of it re-applies (beyond: from t = 0 only)
 WHOLE_RUN, RECENT = "whole", "recent"  # what the plots show: the run from t = 0, or the last PLOT_POINTS rows
 VIEWS = ("inertial", "body")

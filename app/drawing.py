@@ -137,7 +137,8 @@ class Drawing:
             self.legend.show(parts_of(eng.scenario, view=eng.view, polhode=fr.polhode is not None,
                                       mesh=eng.mesh.name if eng.mesh is not None else None,
                                       exaggeration=eng.exaggeration, mass_moves="ux" in eng.run.last.internal,
-                                      braking=fr.torque_vec is not None, sphere=eng.show_sphere))
+                                      braking=fr.torque_vec is not None, sphere=eng.show_sphere,
+                                      second=eng.compare.diff.label() if eng.compare is not None else None))
         if fr.mass_pos is not None and "mass" in h:
             h["mass"].position = tuple(k * fr.mass_pos)
             h["spring"].points = k * np.array([[fr.mass_rest, fr.mass_pos]])

@@ -251,12 +251,14 @@ class Snapshot:
     epoch: int  # the buffers' start it belongs to: a change that restarted the run started new ones
     n_edits: int  # the engine's list of edits the run went through, up to this change
     edit_count: int | None  # and their count
+    retunes: list | None = None  # the engine's log of changes for a replay (app.record), up to this change
 
     @classmethod
     def of(cls, engine, key: str, epoch: int) -> Snapshot:
         state = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in vars(engine.run).items()}
         return cls(key, engine.base, dict(engine.changes), dict(engine.values), engine.bob, engine.fidelity_choice,
-                   state, epoch, len(getattr(engine, "edits", ())), getattr(engine, "edit_count", None))
+                   state, epoch, len(getattr(engine, "edits", ())), getattr(engine, "edit_count", None),
+                   getattr(engine, "retunes", None))
 
     def restore(self, engine) -> float:
         """Put the parameters and the run back (the run object stays the same: whoever holds it sees the
@@ -269,6 +271,8 @@ class Snapshot:
         engine.bob, engine.fidelity_choice = self.bob, self.fidelity
         if isinstance(getattr(engine, "edits", None), list):
             del engine.edits[self.n_edits:]
+        if hasattr(engine, "retunes"):
+            engine.retunes = self.retunes  # the log is replaced on each change, never changed in place
         if self.edit_count is not None:
             engine.edit_count = self.edit_count
         return float(run.t)

@@ -25,6 +25,7 @@ from .buffers import (
     HISTORY_ROWS,
     PLOT_POINTS,
     RECENT,
+    RETUNES_KEPT,
     SAMPLES_PER_FRAME,
     TRAIL_POINTS,
     VIEWS,
@@ -144,6 +145,8 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.history_columns = self.run.last.columns
         self.start_scenario = self.scenario  # what the run began from at t = 0 (the overlay predicts from it)
         self.edits: list[tuple[float, str]] = []  # (t, what) of the first changes the run went on through
+        self.retunes: list[tuple[float, physics.Scenario]] = []  # (t, scenario) of every change the run went on
+        # through, for a replay of this run (app.record); None once more than RETUNES_KEPT
         self.edit_count = 0
         self.shape = self._shape(self.scenario)
         K0 = self.momentum()
@@ -245,12 +248,27 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
             self.scene_changed = True  # redraw the meshes only when what they show has changed
         self.overlay_dirty = True
         if kept:  # the run goes on under other parameters: the plots and the export say so
+            self.log_retune(sc)
             self.edit_count += 1
             if len(self.edits) < EDITS_LISTED:
                 self.edits.append((self.run.t, _edit_names(pending)))
         if not kept:
             self._restarted()
         self._note_edit(kept)
+
+    def log_retune(self, sc: physics.Scenario) -> None:
+        """Keep (t, scenario) of a change the run went on through, so that a replay can make it at the same t."""
+        if self.retunes is not None:
+            self.retunes = self.retunes + [(float(self.run.t), sc)] if len(self.retunes) < RETUNES_KEPT else None
+
+    def replay_retune(self, sc: physics.Scenario) -> None:
+        """Go on under ``sc`` from now, as a change made in a tab did (app.record replays a tab's run)."""
+        kept = self.run.retune(sc, keep_state=True)
+        self.fidelity_choice = sc.run.fidelity
+        self.shape = self._shape(sc)
+        self.scene_changed = self.overlay_dirty = True
+        if not kept:
+            self._restarted()
 
     def _note_edit(self, kept: bool) -> None:
         """Remember what the edit just applied did: the change of E when the state was carried (K and the

@@ -1,6 +1,7 @@
-"""The page's "Download replay (HTML)" button: the tab's scene, as it is set now, recorded from t = 0 into one
-HTML file (app.record) that the browser downloads. It records in a thread of its own, on a copy of the
-scene, so the tab's run goes on; a line under the button says what it is doing and where the file went.
+"""The page's "Download replay (HTML)" button: the tab's run, recorded from t = 0 with the changes made on the
+way (Engine.retunes) into one HTML file (app.record) that the browser downloads. It records in a thread of its
+own, on a copy of the scene, so the tab's run goes on; a line under the button says what it is doing and where
+the file went.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ class ReplayButton:
         self.engine = engine
         self.client = client
         self.busy = threading.Lock()
-        self.button = gui.add_button("Download replay (HTML)", hint="the 3-D scene as set now, from t = 0, with its "
+        self.button = gui.add_button("Download replay (HTML)", hint="this run from t = 0, changes included, with its "
                                      "plots and scenario, in one HTML file any browser plays offline")
         self.status = gui.add_markdown("")
 
@@ -63,7 +64,8 @@ class ReplayButton:
                 self.status.content = f"Recording a replay: {seconds:.0f} s of {title} from t = 0... " \
                                       f"{100 * fraction:.0f}%"
 
-            replay = record(None, seconds, title=title, engine=copy_of_tab(eng), progress=progress)
+            replay = record(None, seconds, title=title, engine=copy_of_tab(eng), progress=progress,
+                            changes=eng.retunes or [])  # the changes the run went on through, at their t
             name = file_name(title)
             client.send_file_download(name, replay.html.encode(), save_immediately=True)
             size = replay.size / 2**20

@@ -45,11 +45,15 @@ class SceneParts:
     sphere: bool = False  # the momentum sphere beside the body (app.sphere_view)
     view: str = "inertial"
     mesh: str | None = None
+    second: str | None = None  # compare mode: what the second (orange) body runs with, e.g. "m = 0 kg"
+
+
+SECOND_BODY = ((235, 140, 50),)  # app.compare_view.BODY_COLOR (not imported here: it imports this module)
 
 
 def parts_of(scenario, *, view: str = "inertial", polhode: bool = False, mesh: str | None = None,
              exaggeration: float = 1.0, mass_moves: bool = True, braking: bool | None = None,
-             sphere: bool = False) -> SceneParts:
+             sphere: bool = False, second: str | None = None) -> SceneParts:
     """The parts a scenario puts in the scene (physics.Scenario: mass, cavity, pendulums, braking b).
     ``braking``: whether the torque arrow is drawn now (it goes when the body has stopped); default b > 0."""
     if braking is None:
@@ -59,7 +63,7 @@ def parts_of(scenario, *, view: str = "inertial", polhode: bool = False, mesh: s
                       cavity=scenario.cavity is not None,
                       bobs=parts.bob_count(scenario),
                       spherical=scenario.pendulum is not None, braking=bool(braking),
-                      polhode=bool(polhode), sphere=bool(sphere), view=view, mesh=mesh)
+                      polhode=bool(polhode), sphere=bool(sphere), view=view, mesh=mesh, second=second)
 
 
 def entries(p: SceneParts) -> list[Entry]:
@@ -76,6 +80,8 @@ def entries(p: SceneParts) -> list[Entry]:
     out.append(Entry("body", "solid", (COLORS["body"],), f"body drawn as {p.mesh} (its inertia: A, B, C)" if p.mesh
                      else "body: uniform solid with its A, B, C"))
     out.append(Entry("ellipsoid", "shell", (COLORS["ellipsoid"],), "inertia ellipsoid (axes 1/sqrt of A, B, C)"))
+    if p.second:
+        out.append(Entry("second", "solid", SECOND_BODY, f"orange body: the same scene with {p.second} (compare)"))
     if p.cavity:
         out.append(Entry("cavity", "shell", (COLORS["cavity"],), "cavity filled with viscous fluid"))
     if p.mass:

@@ -67,18 +67,20 @@ def check_seconds(seconds) -> float:
 
 def record(scenario: physics.Scenario | None, seconds: float, *, title: str, toml_text: str | None = None,
            warp: float | None = None, engine: Engine | None = None, fps: float = REPLAY_FPS,
-           progress=None) -> Replay:
+           progress=None, changes: list | None = None) -> Replay:
     """Play ``scenario`` (the default scene if None) for ``seconds`` at ``fps`` frames per played second and
     return the replay page. ``warp``: simulated seconds per played second (default: the one the explorer
     chooses for the scene). ``engine``: a prepared one instead (the export button's copy of a tab's view);
-    ``progress(fraction)`` is called now and then. Raises ValueError for a bad ``seconds`` and
-    physics.ScenarioError for a scenario that does not run."""
+    ``progress(fraction)`` is called now and then. ``changes``: (t, scenario) pairs a tab's run went on through,
+    made again when the replay's run reaches each t (within one frame's simulated time). Raises ValueError for a
+    bad ``seconds`` and physics.ScenarioError for a scenario that does not run."""
     import viser
 
     from .drawing import Drawing
     from .replay_page import page
 
     seconds = check_seconds(seconds)
+    changes = sorted(changes or [], key=lambda c: c[0])
     eng = engine if engine is not None else Engine(scenario)
     if warp is not None:
         eng.warp = float(warp)
@@ -92,7 +94,10 @@ def record(scenario: physics.Scenario | None, seconds: float, *, title: str, tom
             drawing = Drawing(_RecordingHost(server), eng)
             drawing.update(eng.frame(), True)  # the scene as a tab first shows it, before the recording starts
             serializer = server.get_scene_serializer()  # from here, every scene message is kept with its time
+            pending = list(changes)
             for i in range(1, frames + 1):
+                while pending and pending[0][0] <= eng.run.t:  # the tab's changes, at the frame that reaches them
+                    eng.replay_retune(pending.pop(0)[1])
                 # exactly warp * dt simulated per frame: the live clock's wall-time budget (app.clock) would make
                 # a replay depend on how busy this machine was while recording it
                 eng._advance(eng.warp * dt)
@@ -128,9 +133,10 @@ def _trajectory(eng: Engine) -> physics.Trajectory:
 
 
 def copy_of_tab(eng: Engine) -> Engine:
-    """A fresh engine on a tab's current scene (its parameters as edited), view, exaggeration and warp, from
-    t = 0: what the export button records, without touching the tab's own run."""
-    copy = Engine(eng.scenario, mesh=eng.mesh)
+    """A fresh engine on the scene a tab's run started from, with its view, exaggeration and warp, from t = 0:
+    what the export button records (with ``eng.retunes``, the changes made since), without touching the tab's
+    own run. A tab that made more changes than it keeps (RETUNES_KEPT) is recorded on its present scene."""
+    copy = Engine(eng.start_scenario if eng.retunes is not None else eng.scenario, mesh=eng.mesh)
     copy.view = eng.view
     copy.exaggeration = eng.exaggeration
     copy.show_polhode = eng.show_polhode

@@ -17,6 +17,7 @@ STUDIES = {
     "soak": ("soak", "the explorer served for N minutes: the server's memory growth"),
     "load": ("load", "the explorer served to several websocket clients: updates per second, memory"),
     "explorer-rates": ("explorer_rates", "frames per second, achieved warp and slider latency of the explorer"),
+    "fidelity": ("fidelity", "cheaper fidelities' actual theta error against their stated estimate (issue 15)"),
     "explorer-startup": ("explorer_startup", "time from `python -m app` to the scene drawn in chromium (--cold: "
                                              "first start)"),
 }

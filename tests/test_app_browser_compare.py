@@ -79,6 +79,8 @@ def test_compare_mode_shows_both_runs_names_them_and_goes_away(page, tmp_path):
     assert sum("both runs" in t for t in titles) == 3, titles  # theta, |K| and E of both
     assert not any(t == "nutation angle theta" for t in titles), titles  # the single run's chart is hidden
     assert len([s for s in names if "m = 0 kg" in s]) == 3
+    legend_line = "orange body: the same scene with m = 0 kg"  # the Legend window over the scene names it too
+    wait_until(page, lambda: legend_line in page.evaluate("() => document.body.innerText"), "the legend's line")
 
     set_slider(page, "chi (1/s)", 8.0)  # an edit reaches both runs; the difference stays
     wait_until(page, lambda: "run 2: m = 0 kg" in page.evaluate(COMPARE_JS)
@@ -89,7 +91,12 @@ def test_compare_mode_shows_both_runs_names_them_and_goes_away(page, tmp_path):
 
     choose(page, "compare with", "off")
     wait_until(page, lambda: page.evaluate(COMPARE_JS) == "", "the second readout gone", timeout_ms=UI_TIMEOUT)
-    text = page.evaluate("() => document.body.innerText")
+
+    def without_second_body():
+        text = page.evaluate("() => document.body.innerText")
+        return text if "orange body" not in text else None
+
+    text = wait_until(page, without_second_body, "the legend's line gone")
     assert "run 2:" not in text
     titles = wait_until(page, lambda: [ch["title"] for ch in shown_charts(page)]
                         if "nutation angle theta" in [ch["title"] for ch in shown_charts(page)] else None,

@@ -132,3 +132,27 @@ def test_import_physics_does_not_import_matplotlib():
     code = "import sys, physics; print('matplotlib' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.stdout.strip() == "False", done.stderr
+
+
+def test_the_export_replays_the_tabs_run_with_its_changes_at_their_times():
+    """A tab that changed m at t = 1 s: the replay's run goes through the same change at the same t (within one
+    frame), so it ends where the tab's run is, not where a run of the present scene from t = 0 would be."""
+    from app.engine import Engine
+    from app.record import REPLAY_FPS, copy_of_tab, record
+
+    tab = Engine()
+    for _ in range(60):
+        tab._advance(1 / 60)
+    tab.request_value("mass.m", 0.1)
+    tab.tick(0.0)
+    assert len(tab.retunes) == 1 and abs(tab.retunes[0][0] - tab.run.t) < 1e-12
+    for _ in range(60):
+        tab._advance(1 / 60)
+    copy = copy_of_tab(tab)
+    assert copy.scenario.mass.m == 0.2  # the scene the run began with
+    replay = record(None, 2.0, title="t", engine=copy, changes=tab.retunes)
+    assert copy.scenario.mass.m == 0.1 and replay.frames == 2 * REPLAY_FPS
+    plain = copy_of_tab(tab)
+    record(None, 2.0, title="t", engine=plain)  # the same scene from t = 0 with no changes made
+    theta_tab, theta_copy, theta_plain = (float(e.run.last.theta[0]) for e in (tab, copy, plain))
+    assert abs(theta_copy - theta_tab) < 0.2 * abs(theta_plain - theta_tab)

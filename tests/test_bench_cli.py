@@ -31,6 +31,7 @@ OPTIONS = {
     "soak": ["--minutes", "--clients", "--churn", "--reconnect", "--trim"],
     "load": ["--clients", "--minutes", "--warmup", "--out"],
     "explorer-rates": ["seconds", "--out", "--img", "--chart-only", "--compare"],
+    "fidelity": ["--quick", "--n", "--seed", "--out", "--img", "--workers"],
     "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
 }
 

@@ -430,7 +430,7 @@ FIGURES = [
     # the load test's table and what follows it (python -m bench load, the commands in the table)
     *[(REL, pattern, name, compute)
       for name in (LOAD, LOAD_SHORT) for pattern, compute in load_row(name)],
-    (REL, r"only about (\d+) frames per second per session", LOAD,
+    (REL, r"published about (\d+) frames per second per session", LOAD,
      lambda: result(LOAD)["server_frames"] / result(LOAD)["seconds"] / result(LOAD)["clients"]),
     (REL, r"session \(([\d,]+) frames in the 5-minute run\)", LOAD, lambda: result(LOAD)["server_frames"]),
     (REL, r"received at least (\d+\.\d+) of its session's frames", LOAD,

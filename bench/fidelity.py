@@ -1,0 +1,405 @@
+"""``python -m bench fidelity``: the cheaper fidelities' actual theta error against their stated estimate (issue 15).
+
+A seeded random set of valid scenarios over the domain the issue lists (moving mass: oblate and prolate,
+near-spherical C/A in 0.85..1.15, a few triaxial bodies, m rho^2/A up to 0.7, theta0 up to 1.2 rad, weak and
+strong damping, with and without cavity, medium and braking; spherical pendulum: resonant and detuned, weak and
+strong damping). Each runs the full model (the reference) and every cheaper fidelity of its system; the actual
+error is max |theta - theta_full| over the common time span, the estimate is what ``physics.derived`` states
+today (``<fidelity>_error_bound``, else ``auto_error_bound`` when auto picks that fidelity, else none).
+
+Writes ``<out>/fidelity[_quick].csv`` (one row per scenario x cheaper fidelity, skipped scenarios included with
+their reason), ``<out>/fidelity[_quick].meta.json`` (machine, command, counts) and ``<img>/fidelity[_quick].png``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import time
+import warnings
+from concurrent.futures import ProcessPoolExecutor
+from datetime import UTC, datetime
+from pathlib import Path
+
+import numpy as np
+
+from .machine import machine
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# full-model cost model for the step cap: DOP853 at rtol 1e-10 took ~70 steps per fast period on
+# assets/scenarios/oblate_settling.toml (6.6e6 steps over 95 000 periods of Omega); the pendulum ~40 per period
+STEPS_PER_PERIOD = {"moving_mass": 70.0, "spherical_pendulum": 40.0}
+MAX_STEPS = {True: 5e6, False: 2e7}  # quick / full study: the full model's estimated steps per scenario
+SAMPLES = 1001
+RTOL = 1e-10
+
+# the domain (the issue's list); the tests check generated scenarios against these
+C_OVER_A = (0.4, 1.6)  # whole range; near-spherical draws come from NEAR_SPHERE
+NEAR_SPHERE = (0.85, 1.15)
+MIN_ASPHERICITY = 0.04  # |1 - C/A| below this the slow motion is too slow to see within any step cap
+KAPPA = (0.01, 0.7)  # m rho^2 / A
+ETA = (0.01, 0.25)  # m / M: with KAPPA, m rho^2 / (1 - m/M) < A as the carrier check requires
+CHI_WEAK, CHI_STRONG = (0.2, 0.5), (1.0, 3.0)  # chi / Omega
+THETA0_MASS = (0.05, 1.2)
+EPS = (0.04, 0.2)  # |w0| / Omega
+THETA0_PENDULUM = (0.02, 0.35)
+PENDULUM_C_OVER_A = (1.05, 1.8)
+N_SLOW = (0.5, 3.0)  # horizon in slow times (moving mass) or linear e-folding times (pendulum)
+MIN_SLOW = 0.25  # a horizon shortened to the step cap must still cover this many slow times, else skipped
+
+COLUMNS = ["index", "system", "kind", "status", "note", "eps", "C_over_A", "B_over_A", "kappa", "eta", "theta0",
+           "damping", "cavity", "medium", "braking", "detuning", "n_slow", "t_end", "fidelity", "actual_error",
+           "estimate", "estimate_key", "ratio", "auto_fidelity", "wall_full_s", "wall_s", "steps_full_est", "scenario"]
+
+
+# ---- the scenario generator (no simulation) ---------------------------------------------------------------
+
+def _uniform(rng, lo_hi) -> float:
+    return float(rng.uniform(*lo_hi))
+
+
+def _loguniform(rng, lo_hi) -> float:
+    return float(math.exp(rng.uniform(math.log(lo_hi[0]), math.log(lo_hi[1]))))
+
+
+def _shape(rng) -> float:
+    """C/A: 40 % near-spherical (0.85..1.15), else oblate or prolate over the whole range; never within
+    MIN_ASPHERICITY of a sphere."""
+    while True:
+        lo_hi = NEAR_SPHERE if rng.random() < 0.4 else C_OVER_A
+        r = _uniform(rng, lo_hi)
+        if abs(1.0 - r) >= MIN_ASPHERICITY:
+            return r
+
+
+def _mass_slow_rate(d: dict, sc) -> float:
+    """1/s: the moving mass's slow rate, |D| G0^4 / (A C^4) (Gamma2 lambda, seed 004 (24)) plus the cavity's
+    H G0^2 / (A^2 C) plus the medium's lambda: the scale on which theta moves."""
+    A, C, G0 = sc.body.A, sc.body.C, float(d["G0"])
+    rate = abs(float(d["D"])) * G0**4 / (A * C**4) + abs(float(d["H"])) * G0**2 / (A * A * C)
+    return rate + (sc.medium.lambda_ if sc.medium is not None else 0.0)
+
+
+def mass_case(rng) -> tuple[dict, dict]:
+    """(scenario dict, descriptors) of one moving-mass draw."""
+    import physics
+
+    ca = _shape(rng)
+    triaxial = rng.random() < 0.15  # only the full model allows A != B; the cheaper ones record the refusal
+    ba = 1.0 + _uniform(rng, (0.01, 0.1)) if triaxial else 1.0
+    kappa = _uniform(rng, KAPPA)
+    eta = _uniform(rng, ETA)
+    rho = _uniform(rng, (0.5, 2.0))
+    theta0 = _uniform(rng, THETA0_MASS)
+    eps = _loguniform(rng, EPS)
+    strong = rng.random() < 0.5
+    body = {"A": 1.0, "C": ca, "M": kappa / rho**2 / eta}
+    if triaxial:
+        body["B"] = ba
+    data = {"body": body, "mass": {"m": kappa / rho**2, "rho": rho, "Omega": 1.0},
+            "initial": {"G0": 1.0, "theta0": theta0, "mass_state": "quasistatic"},
+            "run": {"t_end": 1.0, "samples": SAMPLES, "rtol": RTOL}}
+    # Omega from eps: |w0| hardly depends on Omega (the quasistatic mass shifts it by O(eps^2))
+    omega0 = physics.coefficients(physics.Scenario.from_dict(data)).omega0
+    Omega = omega0 / eps
+    # weak: chi |w0| / Omega^2 well inside the averaged condition; strong: chi ~ Omega (may leave it). The slow
+    # rate grows with chi up to ~Omega: weaker damping than CHI_WEAK is beyond any step cap
+    chi = Omega * _uniform(rng, CHI_STRONG if strong else CHI_WEAK)
+    data["mass"].update(Omega=Omega, chi=chi)
+    cavity = rng.random() < 0.3
+    if cavity:
+        data["cavity"] = {"beta": _loguniform(rng, (50.0, 2000.0)), "nu": 20.0, "a0": 0.1}
+    sc = physics.Scenario.from_dict(data)
+    rate0 = _mass_slow_rate(physics.derived(sc), sc)
+    medium = rng.random() < 0.3
+    braking = medium and rng.random() < 0.5
+    if medium:
+        data["medium"] = {"lambda": rate0 * _uniform(rng, (0.2, 2.0))}
+    if braking:
+        data["control"] = {"b": data["medium"]["lambda"] * _uniform(rng, (0.5, 3.0)), "law": "K"}
+    sc = physics.Scenario.from_dict(data)
+    d = physics.derived(sc)
+    n_slow = _uniform(rng, N_SLOW)
+    slow_time = 1.0 / _mass_slow_rate(d, sc)
+    data["run"]["t_end"] = float(n_slow * slow_time)
+    desc = dict(system="moving_mass", kind=("oblate" if ca > 1 else "prolate") + (" triaxial" if triaxial else ""),
+                C_over_A=ca, B_over_A=ba, kappa=kappa, eta=eta, theta0=theta0, damping="strong" if strong else "weak",
+                cavity=cavity, medium=medium, braking=braking, detuning="", n_slow=n_slow, slow_time=slow_time)
+    return data, desc
+
+
+def pendulum_case(rng) -> tuple[dict, dict]:
+    """(scenario dict, descriptors) of one spherical-pendulum draw: a carrier near the issue's reproduction."""
+    import physics
+
+    A = 100.0
+    # oblate carriers only: a prolate carrier's nutation turns against the spin, so "resonant" cannot be tuned
+    ca = _uniform(rng, PENDULUM_C_OVER_A)
+    triaxial = rng.random() < 0.15
+    ba = 1.0 + _uniform(rng, (0.01, 0.1)) if triaxial else 1.0
+    theta0 = _uniform(rng, THETA0_PENDULUM)
+    W = _uniform(rng, (0.5, 2.0))
+    strong = rng.random() < 0.5
+    resonant = rng.random() < 0.5
+    body = {"A": A, "C": ca * A, "M": _uniform(rng, (300.0, 800.0))}
+    if triaxial:
+        body["B"] = ba * A
+    pend = {"m": _loguniform(rng, (0.3, 5.0)), "l": _uniform(rng, (0.2, 1.0)), "h": -_uniform(rng, (0.1, 0.8)),
+            "k": "resonant", "c_d": _loguniform(rng, (1.0, 8.0) if strong else (0.01, 0.2))}
+    data = {"body": body, "pendulum": pend,
+            "initial": {"G0": ca * A * W / math.cos(theta0), "theta0": theta0},
+            "run": {"t_end": 1.0, "samples": SAMPLES, "rtol": RTOL}}
+    detuning = 1.0
+    if not resonant:  # near (0.9..1.1) or far (0.5..2) from resonance, never on it
+        k_res = float(physics.derived(physics.Scenario.from_dict(data))["k_resonant"])
+        while abs(detuning - 1.0) < 0.02:
+            detuning = _uniform(rng, (0.9, 1.1)) if rng.random() < 0.5 else _loguniform(rng, (0.5, 2.0))
+        pend["k"] = k_res * detuning
+    d = physics.derived(physics.Scenario.from_dict(data))
+    n_slow = _uniform(rng, N_SLOW)
+    data["run"]["t_end"] = float(n_slow * float(d["tau_e_linear"]))
+    desc = dict(system="spherical_pendulum", kind="resonant" if resonant else "detuned", C_over_A=ca,
+                B_over_A=ba, kappa=float(d.get("coupling_muD2_over_A", float("nan"))), theta0=theta0,
+                damping="strong" if strong else "weak", cavity=False, medium=False, braking=False,
+                detuning=detuning, n_slow=n_slow, slow_time=float(d["tau_e_linear"]))
+    return data, desc
+
+
+def draw(seed: int, n: int) -> list[tuple[dict, dict]]:
+    """n (scenario dict, descriptors) pairs, deterministic for the seed: two thirds moving mass, one third
+    pendulum. A draw the scenario code refuses is redrawn (counted in the descriptors as ``redraws``)."""
+    import physics
+
+    rng = np.random.default_rng(seed)
+    out = []
+    redraws = 0
+    while len(out) < n:
+        make = mass_case if len(out) % 3 != 2 else pendulum_case
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                data, desc = make(rng)
+                sc = physics.Scenario.from_dict(data)
+                check_run = physics.get_system(sc.system).check_run
+                if check_run is not None:  # what a run checks beyond reading (the carrier's moments)
+                    check_run(sc)
+        except physics.ScenarioError:
+            redraws += 1
+            continue
+        desc["redraws"] = redraws
+        out.append((data, desc))
+    return out
+
+
+# ---- errors ------------------------------------------------------------------------------------------------
+
+def max_theta_error(t_ref, theta_ref, t, theta) -> tuple[float, float]:
+    """(max |theta - theta_ref|, end of the compared span): theta interpolated onto the reference's times over
+    the span both cover (a braked run may stop early)."""
+    t_ref, theta_ref, t, theta = map(np.asarray, (t_ref, theta_ref, t, theta))
+    end = min(float(t_ref[-1]), float(t[-1]))
+    keep = t_ref <= end
+    diff = np.interp(t_ref[keep], t, theta) - theta_ref[keep]
+    return float(np.max(np.abs(diff))), end
+
+
+def full_steps_estimate(sc, desc: dict) -> float:
+    """The full model's DOP853 steps, from the fastest frequency and STEPS_PER_PERIOD."""
+    import physics
+
+    d = physics.derived(sc)
+    if desc["system"] == "moving_mass":
+        fast = max(sc.mass.Omega, float(d.get("eps", 0.0)) * sc.mass.Omega)
+    else:
+        fast = max(abs(float(d["omega_0"])), abs(float(d["lambda_2"])), abs(float(d["Omega"])))
+    return STEPS_PER_PERIOD[desc["system"]] * sc.run.t_end * fast / (2 * math.pi)
+
+
+def _timed(sc, fidelity):
+    import physics
+
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a model outside its conditions runs anyway: that is the point here
+        tr = physics.simulate(sc, fidelity=fidelity)
+    return tr, time.perf_counter() - t0
+
+
+def run_case(args) -> list[dict]:
+    """Rows of one scenario: one per cheaper fidelity, or one ``skipped``/``failed`` row."""
+    import physics
+
+    index, data, desc, max_steps = args
+    sc = physics.Scenario.from_dict(data)
+    steps = full_steps_estimate(sc, desc)
+    n_slow, base_note = desc["n_slow"], ""
+    if steps > max_steps and n_slow * max_steps / steps >= MIN_SLOW:
+        # shorten the horizon to the cap while it still shows MIN_SLOW slow times: the small-eps scenarios,
+        # where auto picks a cheaper model, are the long ones, and skipping them all would bias the study
+        n_slow *= max_steps / steps
+        data = json.loads(json.dumps(data))
+        data["run"]["t_end"] = sc.run.t_end * max_steps / steps
+        sc = physics.Scenario.from_dict(data)
+        base_note = f"horizon shortened to the step cap: {n_slow:.2g} slow times of {desc['n_slow']:.2g} drawn"
+        steps = max_steps
+    d = physics.derived(sc)
+    keys = ("system", "kind", "C_over_A", "B_over_A", "kappa", "eta", "theta0", "damping", "cavity", "medium",
+            "braking", "detuning")
+    base = dict(index=index, **{k: desc.get(k, "") for k in keys},
+                eps=d.get("eps", ""), t_end=sc.run.t_end, auto_fidelity=d.get("auto_fidelity", ""),
+                scenario=json.dumps(data, separators=(",", ":")))
+    base.update(steps_full_est=steps, n_slow=n_slow)
+    if steps > max_steps:
+        return [dict(base, status="skipped", note=f"full model ~{steps:.3g} steps > cap {max_steps:.3g} even at "
+                                                  f"{MIN_SLOW} slow times")]
+    try:
+        full, wall_full = _timed(sc, "full")
+    except (physics.ScenarioError, physics.IntegrationFault) as e:
+        return [dict(base, status="failed", fidelity="full", note=f"full: {e}")]
+    base["wall_full_s"] = wall_full
+    rows = []
+    for fid in physics.get_system(sc.system).fidelities:
+        if fid in ("auto", "full"):
+            continue
+        key = f"{fid}_error_bound"
+        if key not in d and d.get("auto_fidelity") == fid and "auto_error_bound" in d:
+            key = "auto_error_bound"
+        est = float(d[key]) if key in d else None
+        row = dict(base, fidelity=fid, estimate="" if est is None else est, estimate_key=key if est else "")
+        try:
+            tr, wall = _timed(sc, fid)
+        except (physics.ScenarioError, physics.IntegrationFault) as e:
+            rows.append(dict(row, status="failed", note=str(e)))
+            continue
+        err, end = max_theta_error(full.t, full.theta, tr.t, tr.theta)
+        span = f"compared over [0, {end:.6g}]" if end < sc.run.t_end * (1 - 1e-9) else ""
+        note = "; ".join(x for x in (base_note, span) if x)
+        if not math.isfinite(err):  # a model that returned NaN theta: a failure, not an error size
+            rows.append(dict(row, status="nan", note=f"{fid} theta not finite", wall_s=wall))
+            continue
+        rows.append(dict(row, status="ok", note=note, actual_error=err, wall_s=wall,
+                         ratio=err / est if est else ""))
+    return rows
+
+
+# ---- chart ---------------------------------------------------------------------------------------------------
+
+def chart(rows: list[dict], path: Path, title: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ok = [r for r in rows if r["status"] == "ok"]
+    groups = sorted({(r["system"], r["fidelity"]) for r in ok})
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5), gridspec_kw=dict(width_ratios=[3, 2]))
+    ax, bx = axes
+    markers = {"averaged": "o", "closed": "s", "linear": "^"}
+    colors = {"moving_mass": "tab:blue", "spherical_pendulum": "tab:red"}
+    lo, hi = 1e-6, 1e-6
+    for i, (system, fid) in enumerate(groups):
+        g = [r for r in ok if (r["system"], r["fidelity"]) == (system, fid)]
+        with_est = [r for r in g if r["estimate"] != ""]
+        without = [r for r in g if r["estimate"] == ""]
+        style = dict(marker=markers.get(fid, "D"), color=colors.get(system, f"C{i}"), alpha=0.7, linestyle="none")
+        if with_est:
+            x = [max(r["estimate"], 1e-16) for r in with_est]
+            y = [max(r["actual_error"], 1e-16) for r in with_est]
+            ax.plot(x, y, label=f"{system} / {fid} (n={len(with_est)})", **style)
+            lo, hi = min(lo, *x, *y), max(hi, *x, *y)
+        if without:
+            y = [max(r["actual_error"], 1e-16) for r in without]
+            bx.plot(np.full(len(y), i) + np.linspace(-0.2, 0.2, len(y)), y, label=f"{system} / {fid} (n={len(y)})",
+                    **style)
+    ax.plot([lo, hi * 2], [lo, hi * 2], "k--", lw=1, label="actual = estimate")
+    ax.set(xscale="log", yscale="log", xlabel="stated estimate (rad)", ylabel="actual max |theta - theta_full| (rad)",
+           title="with an estimate: above the line = estimate does not hold")
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    bx.set(yscale="log", xticks=range(len(groups)), ylabel="actual max |theta - theta_full| (rad)",
+           title="no estimate stated")
+    bx.set_xticklabels([f"{s}\n{f}" for s, f in groups], fontsize=7)
+    bx.grid(True, which="both", alpha=0.3)
+    fig.suptitle(title)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+# ---- summary and main ---------------------------------------------------------------------------------------
+
+def summary(rows: list[dict]) -> dict:
+    """Worst and median actual/estimate per system and fidelity, rows without an estimate, auto's choices."""
+    out: dict = {"groups": {}}
+    ok = [r for r in rows if r["status"] == "ok"]
+    for system, fid in sorted({(r["system"], r["fidelity"]) for r in ok}):
+        g = [r for r in ok if (r["system"], r["fidelity"]) == (system, fid)]
+        ratios = [r["ratio"] for r in g if r["ratio"] != ""]
+        out["groups"][f"{system}/{fid}"] = dict(
+            n=len(g), with_estimate=len(ratios), without_estimate=len(g) - len(ratios),
+            worst_ratio=max(ratios) if ratios else None, median_ratio=float(np.median(ratios)) if ratios else None,
+            over_1=sum(x > 1 for x in ratios), median_actual=float(np.median([r["actual_error"] for r in g])))
+    scen = {r["index"]: r for r in rows}
+    ran = {r["index"]: r for r in ok}
+    out["scenarios"] = len(scen)
+    out["ran"] = len(ran)
+    out["skipped"] = sum(r["status"] == "skipped" for r in scen.values())
+    out["failed_rows"] = sum(r["status"] == "failed" for r in rows)
+    out["auto_cheaper_ran"] = sum(r["auto_fidelity"] not in ("full", "") for r in ran.values())
+    out["auto_cheaper_all"] = sum(r["auto_fidelity"] not in ("full", "") for r in scen.values())
+    out["shortened"] = sum("shortened" in str(r.get("note", "")) for r in scen.values())
+    out["no_estimate_scenarios"] = sum(all(x["estimate"] == "" for x in ok if x["index"] == i) for i in ran)
+    return out
+
+
+def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, command: str) -> dict:
+    start = time.perf_counter()
+    cases = draw(seed, n)
+    jobs = [(i, data, desc, MAX_STEPS[quick]) for i, (data, desc) in enumerate(cases)]
+    rows: list[dict] = []
+    if workers > 1:
+        with ProcessPoolExecutor(workers) as pool:
+            for r in pool.map(run_case, jobs):
+                rows.extend(r)
+    else:
+        for job in jobs:
+            rows.extend(run_case(job))
+            print(f"  scenario {job[0] + 1}/{len(jobs)}: {rows[-1]['system']} {rows[-1]['status']}", flush=True)
+    stem = "fidelity_quick" if quick else "fidelity"
+    out.mkdir(parents=True, exist_ok=True)
+    with (out / f"{stem}.csv").open("w", newline="") as f:
+        w = csv.DictWriter(f, COLUMNS, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: r.get(k, "") for k in COLUMNS})
+    chart(rows, img / f"{stem}.png", f"cheaper fidelities against the full model: {len(cases)} scenarios, "
+                                     f"seed {seed} ({command})")
+    meta = dict(command=command, quick=quick, n=n, seed=seed, workers=workers,
+                max_full_steps=MAX_STEPS[quick], date=datetime.now(UTC).isoformat(timespec="seconds"),
+                machine=machine(), summary=summary(rows), wall_total_s=time.perf_counter() - start)
+    (out / f"{stem}.meta.json").write_text(json.dumps(meta, indent=2, default=str))
+    return meta
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m bench fidelity", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="40 scenarios and a lower step cap (a few minutes)")
+    ap.add_argument("--n", type=int, default=None, help="number of scenarios (default 300; 40 with --quick)")
+    ap.add_argument("--seed", type=int, default=15, help="random seed of the scenario set (default 15)")
+    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results", help="CSV and meta JSON folder")
+    ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img", help="chart folder")
+    ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
+    a = ap.parse_args(argv)
+    n = a.n if a.n is not None else (40 if a.quick else 300)
+    if n < 1:
+        ap.error(f"--n must be at least 1, got {n}")
+    if a.workers < 1:
+        ap.error(f"--workers must be at least 1, got {a.workers}")
+    meta = run(n, a.seed, a.quick, a.out, a.img, a.workers,
+               command=" ".join(["python -m bench fidelity", *(argv if argv is not None else [])]))
+    print(json.dumps(meta["summary"], indent=2, default=str))
+    return 0
