@@ -155,6 +155,7 @@ def test_a_preset_that_names_an_overlay_turns_it_on(page):
 
 
 def test_choosing_a_system_keeps_the_body(page):
+    wait_until(page, lambda: read(page, "fidelity"), "the session's first readouts")  # the panel is the session's
     choose(page, "Preset", "Explorer 1's flat spin")
     wait_until(page, lambda: "Explorer 1's flat spin" in readouts(page), "the preset")
     open_folder(page, "Body inertia", "A (kg m^2)")

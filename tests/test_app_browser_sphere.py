@@ -93,6 +93,9 @@ def test_the_sphere_is_in_the_canvas_and_goes_with_the_toggle(page, app):  # noq
     assert len(path) > 5
     pause(page, s)
     t_paused = read(page, "t")
+    # the path is sent at the plots' rate: the first picture must show all of it, or showing the sphere again
+    # (which sends the whole path) would differ from it by the last segments
+    wait_until(page, lambda: s.drawing.sphere._version == s.engine.sphere_path.version, "the whole path sent")
     page.wait_for_timeout(1500)
     shown = canvas_png(page)
     set_toggle(page, False)
