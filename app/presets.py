@@ -14,7 +14,8 @@ FIGURES = ASSETS / "figures"
 TITLE_LINE = "# preset: "  # the first line of a preset file: its title (bench/figures.py PRESET_HEADER writes it too)
 DEFAULT = "Default: oblate body settling (1 min)"
 
-# Scenes without a file. Each is a scenario dict in the TOML layout (README "Use").
+# Scenes without a file. Each is a scenario dict in the TOML layout (README "Use"). The systems' examples
+# (physics.System.example, titled by their first line) are presets too: see examples().
 BUILT_IN: dict[str, dict] = {
     "Braking a body with a viscoelastic mass (starts quasi-static)": {
         "body": {"A": 1.0, "C": 1.4, "M": 10.0},
@@ -23,22 +24,9 @@ BUILT_IN: dict[str, dict] = {
         "initial": {"G0": 1.0, "theta0": 0.7, "mass_state": "quasistatic"},
         "run": {"fidelity": "auto", "t_end": 200.0},
     },
-    "Spherical pendulum damper, resonant": {
-        "body": {"A": 1.0, "C": 1.4, "M": 1.0},
-        "pendulum": {"m": 0.05, "l": 0.3, "h": 0.5, "k": "resonant", "c_d": 0.01},
-        "initial": {"G0": 2.0, "theta0": 0.3},
-        "run": {"fidelity": "full", "t_end": 60.0},
-    },
     "Spherical pendulum damper, detuned": {
         "body": {"A": 1.0, "C": 1.4, "M": 1.0},
         "pendulum": {"m": 0.05, "l": 0.3, "h": 0.5, "k": 0.05, "c_d": 0.01},
-        "initial": {"G0": 2.0, "theta0": 0.3},
-        "run": {"fidelity": "full", "t_end": 60.0},
-    },
-    "Plane pendulums (three, in the spin plane)": {
-        "body": {"A": 1.0, "C": 1.4, "M": 1.0},
-        "plane_pendulum": [{"preset": "in_plane", "m": 0.03, "l": 0.2, "k": 0.5, "c_d": 0.01, "R": 0.5,
-                            "azimuth": a} for a in (0.0, 2.0943951023931953, 4.1887902047863905)],
         "initial": {"G0": 2.0, "theta0": 0.3},
         "run": {"fidelity": "full", "t_end": 60.0},
     },
@@ -56,6 +44,17 @@ def _title(path: Path) -> str:
     with path.open(encoding="utf-8") as fh:
         first = fh.readline().strip()
     return first[len(TITLE_LINE):].strip() if first.startswith(TITLE_LINE) else path.stem
+
+
+def _text_title(text: str) -> str | None:
+    first = text.partition("\n")[0].strip()
+    return first[len(TITLE_LINE):].strip() if first.startswith(TITLE_LINE) else None
+
+
+def examples() -> dict[str, str]:
+    """Title -> TOML text of every registered system's example that has a title line (the default system's
+    example is the default scene, DEFAULT)."""
+    return {title: s.example for s in physics.SYSTEMS.values() if (title := _text_title(s.example))}
 
 
 FIGURE_ORDER = ("seed000", "seed004", "seed002")  # docs/figures.md's order
@@ -76,7 +75,7 @@ def preset_files() -> dict[str, Path]:
 def preset_names() -> list[str]:
     files = preset_files()
     figures = [t for t, f in files.items() if f.parent == FIGURES]
-    return [DEFAULT] + [t for t in files if t not in figures] + list(BUILT_IN) + figures
+    return [DEFAULT] + [t for t in files if t not in figures] + list(BUILT_IN) + list(examples()) + figures
 
 
 def load_preset(name: str) -> physics.Scenario:
@@ -85,6 +84,8 @@ def load_preset(name: str) -> physics.Scenario:
         return physics.default_scenario()
     if name in BUILT_IN:
         return physics.Scenario.from_dict(BUILT_IN[name])
+    if name in (shown := examples()):
+        return physics.Scenario.from_toml(shown[name])
     return physics.Scenario.load(preset_files()[name])
 
 
@@ -115,7 +116,7 @@ def overlay_of(name: str) -> str | None:
 
 
 # What choosing a system starts from: its example scenario (physics.System.example; the moving mass's is the
-# default scene), named as the preset it equals; the body and the initial state are the current scene's where
+# default scene), named by its title line; the body and the initial state are the current scene's where
 # they fit (system_scenes).
 def system_template(system: str) -> tuple[physics.Scenario, str]:
     """The example scenario of ``system`` and the name the panel shows for it."""
@@ -125,8 +126,7 @@ def system_template(system: str) -> tuple[physics.Scenario, str]:
     template = physics.Scenario.from_toml(spec.example)
     if template == physics.default_scenario():
         return template, DEFAULT
-    same = (title for title, data in BUILT_IN.items() if physics.Scenario.from_dict(data) == template)
-    return template, next(same, f"{spec.label} example")
+    return template, _text_title(spec.example) or f"{spec.label} example"
 
 
 def _with_start(data: dict) -> physics.Scenario:

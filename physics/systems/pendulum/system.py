@@ -124,6 +124,7 @@ def plane_amplitude(tr, sc) -> float:
 
 
 SPHERICAL_EXAMPLE = """\
+# preset: Spherical pendulum damper, resonant
 # Alger's spherical pendulum damper on an oblate body, its spring tuned to the free nutation (seed 002).
 [body]
 A = 1.0
@@ -147,6 +148,7 @@ t_end = 60.0
 """
 
 PLANE_EXAMPLE = """\
+# preset: Plane pendulums (three, in the spin plane)
 # Taylor's plane pendulums: three in the spin plane, 120 degrees apart (seed 002, MODELS B.7).
 [body]
 A = 1.0
