@@ -99,6 +99,19 @@ def point_label(table: physics.SweepTable, i: int) -> str:
     return f"#{i}: {where(table, i)} -> {table.metric} {shown}"
 
 
+def estimate_line(table: physics.SweepTable) -> str:
+    """Which model the points ran and the theta error each states against the full model (physics'
+    ``error_bound``), with how it was obtained."""
+    ran = [r for r in table.rows if r["model"] and not r["error"]]
+    cheap = [r for r in ran if not r["model"].endswith("/full")]
+    if not cheap:
+        return "Every point ran the full model (the reference)." if ran else ""
+    worst = max(float(r.get("error_bound", math.nan)) for r in cheap)
+    how = table.info.get("error_bound_method", "")
+    return (f"{len(cheap)} of {len(ran)} point(s) ran a cheaper model; the theta error they state against the full "
+            f"model is at most {worst:.2g} rad" + (f" (estimate: {how})." if how else "."))
+
+
 def summary(table: physics.SweepTable) -> str:
     """Markdown: the best point with the rule that chose it, then what was left out and why points failed."""
     unit = physics.METRICS[table.metric].unit
@@ -114,6 +127,7 @@ def summary(table: physics.SweepTable) -> str:
         if grows or flat:
             lines.append(f"Left out: {grows} point(s) where the nutation grows (tau < 0)"
                          + (f", {flat} flat (tau = inf)" if flat else "") + ".")
+    lines.append(estimate_line(table))
     reasons: dict[str, list[int]] = {}
     for i, row in enumerate(table.rows):
         if row["error"]:

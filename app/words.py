@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 import re
 
+import physics
+
 # physics.validity_conditions names (each system's validity conditions) -> what each condition means for the
 # motion; a name missing here is shown as physics gives it
 CONDITION_WORDS = {
@@ -54,24 +56,35 @@ def reason_words(reason: str, conds: list) -> str:
     return PAPER_REF.sub("", reason)
 
 
+def estimate_words(d: dict) -> list[str]:
+    """One line per cheaper model with an error estimate in ``physics.derived`` (``d``): how far its theta stays
+    from the full model's over the run, or that it makes no claim here (inf)."""
+    out = []
+    for fid in ("closed", "averaged"):
+        value = d.get(f"{fid}_error_bound")
+        if not isinstance(value, float):
+            continue
+        out.append(f"{fid}: within {value:.2g} rad of the full model over the run" if math.isfinite(value)
+                   else f"{fid}: no error estimate for this scene (outside what it was measured on)")
+    return out
+
+
 def badge_parts(d: dict, conds: list) -> tuple[str, str]:
     """Auto's badge from ``physics.derived`` (``d``) and ``physics.validity_conditions`` (``conds``):
     (what the panel shows, in words; the formulas with their values, for the Details folder)."""
     head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
-    lines = []
+    asked = d.get("auto_accuracy", "not set")
+    lines = [f"accuracy asked: {asked:g} rad" if isinstance(asked, float)
+             else f"accuracy asked: {physics.DEFAULT_ACCURACY:g} rad (the default; set run.accuracy)"]
+    lines += estimate_words(d)
     if conds:
-        head += f"  \nthe averaged model {'applies' if all(c.holds for c in conds) else 'does not apply'}:"
-        lines = [f"{'✓ holds' if c.holds else '✗ fails'}: {condition_words(c.name)}" for c in conds]
-    bound = d.get("auto_error_bound")
-    shown_bound = isinstance(bound, float) and bound > 0
-    lines.append(f"requested accuracy: {d.get('auto_accuracy', 'not set')}"
-                 # not called a bound: checked against the full model it can be several times low (near-
-                 # spherical bodies, strong coupling), which a calibrated estimate is still to fix
-                 + (f"; rough error estimate of the choice {bound:.2g} rad (can be several times low)"
-                    if shown_bound else ""))
+        lines.append(f"the papers' conditions for averaging {'hold' if all(c.holds for c in conds) else 'fail'}:")
+        lines += [f"{'✓ holds' if c.holds else '✗ fails'}: {condition_words(c.name)}" for c in conds]
     why = reason_words(d["auto_reason"], conds)
     shown = head + "  \n" + "  \n".join(lines) + (f"  \n_{why}_" if why else "")
     details = [f"auto's reason: {d['auto_reason']}"]
+    if d.get("error_bound_method"):
+        details.append(f"how the error estimates were obtained: {d['error_bound_method']}")
     if conds:
         details += ["averaged model's conditions:"] + [f"{condition_words(c.name)}: {c}" for c in conds]
     return shown, "  \n".join(details)

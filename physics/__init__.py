@@ -41,7 +41,7 @@ from physics.studies.sweep import SweepTable, axis_values, check_point, numeric_
 from physics.studies.work_precision import Row as WorkPrecisionRow
 from physics.studies.work_precision import WorkPrecision, work_precision
 from physics.systems.carry import CannotCarry, Carried, carry_state
-from physics.systems.choice import choose_fidelity
+from physics.systems.choice import DEFAULT_ACCURACY, choose_fidelity
 from physics.systems.choice import conditions as validity_conditions
 from physics.systems.derived import derived
 from physics.systems.moving_mass import closed
@@ -55,7 +55,8 @@ __all__ = [
     "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "LiveRun", "Mass", "Medium", "Model",
     "METRICS", "Metric", "REGISTRY", "Run", "Scenario", "ScenarioError", "SweepTable", "Trajectory", "ValidityWarning",
     "averaged_conditions", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "sweep",
-    "carry_state", "choose_fidelity", "closed", "resolved_stiffness", "coefficients", "default_scenario", "derived",
+    "DEFAULT_ACCURACY", "carry_state", "choose_fidelity", "closed", "resolved_stiffness", "coefficients",
+    "default_scenario", "derived",
     "get_model", "get_system", "initial_G", "load_builtin", "Param", "register_model", "register_system", "System",
     "SYSTEMS", "Table", "unregister_system",
     "BASE_FOLDERS", "BASE_PARAMS", "base_values", "edit_dict", "IDENTITY", "qconj", "qmul", "rotate",

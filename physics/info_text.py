@@ -12,15 +12,18 @@ import json
 import math
 
 from physics.registry import systems
+from physics.systems.choice import DEFAULT_ACCURACY
 
 # name -> (unit, meaning) of what physics/systems/derived.py adds for every system
 COMMON = {
     "auto_fidelity": ("", "the fidelity run.fidelity = \"auto\" picks"),
     "auto_model": ("", "the model it runs"),
     "auto_method": ("", "the integrator it uses"),
-    "auto_accuracy": ("rad", "run.accuracy asked for"),
-    "averaged_error_bound": ("rad", "estimated error of the averaged model in theta"),
-    "auto_error_bound": ("rad", "estimated error of auto's choice in theta"),
+    "auto_accuracy": ("rad", f"run.accuracy asked for (not set: auto asks {DEFAULT_ACCURACY:g} rad)"),
+    "averaged_error_bound": ("rad", "max |theta - theta_full| the averaged model stays within (inf: no claim)"),
+    "closed_error_bound": ("rad", "max |theta - theta_full| the closed form stays within (inf: no claim)"),
+    "auto_error_bound": ("rad", "that estimate for auto's choice (0: the full model, the reference)"),
+    "error_bound_method": ("", "how the estimates were obtained"),
     "auto_reason": ("", ""),  # a sentence already
 }
 

@@ -178,7 +178,8 @@ class System:
     validity conditions; ``choose(sc) -> (fidelity, reason)`` is ``auto``'s pick; ``available(sc, fidelity)
     -> (ok, why)`` says whether a registered model covers this scenario; ``derived(sc)`` the papers'
     quantities by name; ``error_bounds(sc, fidelity)`` the estimated max |theta - theta_full| (rad) of a
-    cheaper fidelity, or None; ``edit(data, key, value)`` applies one slider value to a scenario's dict
+    cheaper fidelity, or None (``error_method`` says how they were obtained); ``edit(data, key, value)``
+    applies one slider value to a scenario's dict
     (a zero mass removes the mass); ``values(sc, item=None)`` the slider values describing a scenario (item
     picks one of an array table's items).
     ``amplitude(tr, sc)`` is the internal part's largest excursion over a run (the sweeps' max_displacement).
@@ -209,6 +210,7 @@ class System:
     available: Callable[[Any, str], tuple[bool, str]] = lambda sc, fidelity: (True, "")
     derived: Callable[[Any], dict] = _none
     error_bounds: Callable[[Any, str], float | None] = lambda sc, fidelity: None
+    error_method: str = ""  # how error_bounds were obtained (derived's ``error_bound_method``, the badge)
     edit: Callable[[dict, str, Any], None] | None = None
     values: Callable[..., dict[str, float]] = _none
     amplitude: Callable[[Trajectory, Any], float] | None = None

@@ -183,7 +183,8 @@ def test_info_reports_the_linear_theory():
     assert info["k_tuning"] == "resonant" and info["k"] == info["k_resonant"] == pytest.approx(MU * 9, rel=1e-14)
     assert info["decay_rate_linear"] == pytest.approx(0.1250736511, rel=1e-9)
     assert info["tau_e_linear"] == pytest.approx(14.6925, rel=1e-4)
-    assert info["auto_fidelity"] == "full" and "g / |Omega|" in info["auto_reason"]
+    # issue 15: auto asks the averaged model's error estimate (~0.04 rad here: strong coupling, theta0 10 deg)
+    assert info["auto_fidelity"] == "full" and "averaged error estimate" in info["auto_reason"]
     plane = physics.derived(physics.Scenario.load("assets/scenarios/plane_pendulums_three.toml"))
     assert [plane[f"omega_{i}"] for i in (1, 2, 3)] == pytest.approx([2.0] * 3, rel=1e-9)
     assert plane["auto_reason"] == "plane pendulums have only the full model"

@@ -40,7 +40,8 @@ STATUS_TEXT = {
     UNDERFLOW: "step size underflow",
     MAX_STEPS: "too many steps",
     MODEL_FAULT: "the spherical pendulum with a spring (k > 0) reached the gimbal singularity of its Cardan angles, "
-                 "where the spring is undefined (|beta| -> 90 deg)",
+                 'where a spring on them is undefined: set pendulum.pivot = "isotropic" (spring and damper on the '
+                 "arm's direction) to go on through the pole (|beta| -> 90 deg)",
 }
 
 

@@ -24,6 +24,14 @@ Geometries (``kind`` = p[0]):
   c (|e'|^2 + sin^2 b alpha'^2) >= 0, so E + W stays conserved); the chart in use is the last state
   value. A spring acts on the Cardan angles themselves, which the bob's position does not determine
   at the pole: with k > 0 the run still stops there (``fault``).
+  The pivot model (``pendulum.pivot``, p[o+PIVOT], o = HEADER): CARDAN (0) is the above, the paper's (MODELS
+  B.1). ISOTROPIC (1) puts the spring and the damper on the arm's direction e (body frame) instead of on the
+  angles: V = k (1 - e.e3), R = c |e'|^2/2. Both charts have e_z = cos a cos b, |de/da| = cos b, |de/db| = 1
+  and de/da . de/db = 0, so in either chart Q_alpha = -k sin a cos b - c cos^2 b alpha',
+  Q_beta = -k cos a sin b - c beta', U = k (1 - cos a cos b) and the damper dissipates
+  c (cos^2 b alpha'^2 + beta'^2) = c |e'|^2. To second order in the angles this is the Cardan model (linear
+  theory and tuning are unchanged); being chart-free it goes on through the pole with k > 0 by the same
+  chart switch, and ``fault`` never fires for it.
 - 1, N plane pendulums (Taylor): q_i = a_i, r_i = hinge_i + l_i (cos a_i e0_i + sin a_i f_i),
   f_i = n_i x e0_i; spring k_i, damper c_i.
 
@@ -31,13 +39,14 @@ State (3 + 2 nq + 5, + 1 spherical), nq = 2 (spherical) or N (plane): w (3) carr
 components, rad/s; q (nq) rad; q' (nq) rad/s; quaternion (4), scalar first, body -> inertial;
 W (1) work dissipated by the dampers, J; the spherical pendulum's chart (0 or 1, index CHART = 12).
 
-Parameters p (12 + 16 N), see ``physics.models.pendulum.pack``:
+Parameters p (12 + 16 N), see ``physics.systems.pendulum.models.pack``:
     p[0]  kind (0 spherical, 1 plane)     p[1]  N, number of bobs     p[2]  M, total mass (kg)
     p[3:12]  I_c row-major (kg m^2, about G_B, body axes)
     bob i at o = 12 + 16 i:  p[o] m (kg), p[o+1] l (m), p[o+2] k (N m/rad), p[o+3] c (N m s/rad),
         p[o+4:o+7] pivot or hinge point from G_B (m), p[o+7:o+10] unit hinge axis n,
         p[o+10:o+13] unit arm direction at rest e0, p[o+13:o+16] f = n x e0.
-    (For the spherical pendulum n = e1, e0 = e3, f = -e2; the kernel uses only the pivot.)
+    For the spherical pendulum the kernel reads the pivot point and p[o+7] (o + PIVOT), the pivot model
+    (CARDAN 0, ISOTROPIC 1); p[o+8:o+16] are unused (0).
 """
 
 from __future__ import annotations
@@ -52,6 +61,8 @@ BOB = 16
 SPHERICAL, PLANE = 0, 1
 GIMBAL_LIMIT = 1e-3  # |cos beta| below which the Cardan angles are given up (mass matrix ~ cos^2 beta)
 CHART = 12  # the spherical pendulum's chart index in its state (after W)
+PIVOT = 7  # the spherical pendulum's pivot model, p[HEADER + PIVOT] (a slot the plane pendulum uses for its axis)
+CARDAN, ISOTROPIC = 0, 1  # spring and damper on the Cardan angles (the paper), or on the arm's direction
 # |e_x| (= |sin beta| in chart 0) above which chart 0 gives way to chart 1 (beta past 60 deg), and below
 # which chart 1 gives way to chart 0 again (45 deg): the band between them keeps a run from switching
 # back and forth, and chart 1 never comes near its own pole (|beta_1| < 45 deg while in use).
@@ -193,10 +204,52 @@ def energy(y, p):
             T += 0.5 * m * V[i, j] * V[i, j]
             sv[j] += m * V[i, j]
     T -= 0.5 * (sv[0] * sv[0] + sv[1] * sv[1] + sv[2] * sv[2]) / M
+    return T + _spring_energy(y, p)
+
+
+@njit(cache=True)
+def _isotropic(p):
+    """The spherical pendulum's spring and damper act on the arm's direction, not on the angles."""
+    return p[0] == SPHERICAL and p[HEADER + PIVOT] == ISOTROPIC
+
+
+@njit(cache=True)
+def _spring_energy(y, p):
+    """U, J: k (1 - cos a cos b) for the isotropic pivot (the same in both charts), else sum k q^2/2."""
+    if _isotropic(p):
+        return p[HEADER + 2] * (1.0 - math.cos(y[3]) * math.cos(y[4]))
+    _, nq = _sizes(p)
     U = 0.0
     for a in range(nq):
         U += 0.5 * _spring(p, a) * y[3 + a] * y[3 + a]
-    return T + U
+    return U
+
+
+@njit(cache=True)
+def _joint_forces(y, p, Q):
+    """The springs' and dampers' generalized forces Q (nq,) on the joint coordinates, N m."""
+    _, nq = _sizes(p)
+    if _isotropic(p):  # -dV/dq - dR/dq' with V = k (1 - e_z), R = c |e'|^2/2 (module docstring)
+        k, c = p[HEADER + 2], p[HEADER + 3]
+        sa, ca, sb, cb = math.sin(y[3]), math.cos(y[3]), math.sin(y[4]), math.cos(y[4])
+        Q[0] = -k * sa * cb - c * cb * cb * y[5]
+        Q[1] = -k * ca * sb - c * y[6]
+        return
+    for a in range(nq):
+        Q[a] = -_spring(p, a) * y[3 + a] - _damper(p, a) * y[3 + nq + a]
+
+
+@njit(cache=True)
+def _dissipation(y, p):
+    """The dampers' power, W' = 2 R >= 0, W."""
+    _, nq = _sizes(p)
+    if _isotropic(p):
+        cb = math.cos(y[4])
+        return p[HEADER + 3] * (cb * cb * y[5] * y[5] + y[6] * y[6])
+    power = 0.0
+    for a in range(nq):
+        power += _damper(p, a) * y[3 + nq + a] * y[3 + nq + a]
+    return power
 
 
 @njit(cache=True)
@@ -267,8 +320,7 @@ def accelerations(y, p):
     rhs[0] = -(w[1] * Iw[2] - w[2] * Iw[1])
     rhs[1] = -(w[2] * Iw[0] - w[0] * Iw[2])
     rhs[2] = -(w[0] * Iw[1] - w[1] * Iw[0])
-    for a in range(nq):
-        rhs[3 + a] = -_spring(p, a) * y[3 + a] - _damper(p, a) * qd[a]
+    _joint_forces(y, p, rhs[3:])
     for i in range(nb):
         m = p[HEADER + BOB * i]
         r = R[i]
@@ -316,19 +368,16 @@ def rhs(t, y, p, out):
     out[0] = X[0]
     out[1] = X[1]
     out[2] = X[2]
-    power = 0.0
     for a in range(nq):
-        qd = y[3 + nq + a]
-        out[3 + a] = qd
+        out[3 + a] = y[3 + nq + a]
         out[3 + nq + a] = X[3 + a]
-        power += _damper(p, a) * qd * qd
     o = 3 + 2 * nq
     qw, qx, qy, qz = y[o], y[o + 1], y[o + 2], y[o + 3]
     out[o] = -0.5 * (qx * w1 + qy * w2 + qz * w3)
     out[o + 1] = 0.5 * (qw * w1 + qy * w3 - qz * w2)
     out[o + 2] = 0.5 * (qw * w2 + qz * w1 - qx * w3)
     out[o + 3] = 0.5 * (qw * w3 + qx * w2 - qy * w1)
-    out[o + 4] = power
+    out[o + 4] = _dissipation(y, p)
     if p[0] == SPHERICAL and out.size > CHART:
         out[CHART] = 0.0  # the chart changes only by switch_chart
 
@@ -336,8 +385,10 @@ def rhs(t, y, p, out):
 @njit(cache=True)
 def fault(y, p):
     """1 at the spherical pendulum's gimbal singularity (|cos beta| < GIMBAL_LIMIT) with a spring on the
-    Cardan angles (k != 0; without one the chart switches before), else 0."""
-    if p[0] == SPHERICAL and p[HEADER + 2] != 0.0 and abs(math.cos(y[4])) < GIMBAL_LIMIT:
+    Cardan angles (k != 0, the Cardan pivot; without one, or with the isotropic pivot, the chart switches
+    before), else 0."""
+    if (p[0] == SPHERICAL and p[HEADER + 2] != 0.0 and p[HEADER + PIVOT] == CARDAN
+            and abs(math.cos(y[4])) < GIMBAL_LIMIT):
         return 1
     return 0
 
@@ -357,9 +408,10 @@ def _direction(chart, a, b):
 @njit(cache=True)
 def switch_chart(y, p):
     """Re-express the spherical pendulum's bob in the other chart when it nears the pole of the one in use
-    (k = 0 only): the same arm direction e and rate e' (so the same position, velocity, H and E), new
-    angles and rates, in place. Returns 1 when it switched, else 0."""
-    if p[0] != SPHERICAL or p[HEADER + 2] != 0.0 or y.size <= CHART:
+    (k = 0, or the isotropic pivot, whose spring and damper do not depend on the chart): the same arm
+    direction e and rate e' (so the same position, velocity, H and E), new angles and rates, in place.
+    Returns 1 when it switched, else 0."""
+    if p[0] != SPHERICAL or y.size <= CHART or (p[HEADER + 2] != 0.0 and not _isotropic(p)):
         return 0
     chart = 0 if y[CHART] < 0.5 else 1
     ex = abs(math.sin(y[4]) if chart == 0 else math.sin(y[3]) * math.cos(y[4]))  # |e_x|

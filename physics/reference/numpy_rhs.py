@@ -44,7 +44,9 @@ def moving_mass_rhs(p: np.ndarray):
 def spherical_pendulum_rhs(p: np.ndarray):
     """f(t, y) of the full spherical-pendulum damper (MODELS.md B.2, one bob, Cardan angles) for solve_ivp;
     p and the state (w, alpha, beta, alpha', beta', q, W_diss, chart) as physics/compiled/pendulum.py, in
-    chart 0 (the Cardan angles; the kernel's chart 1 near their pole is not written out here).
+    chart 0 (the Cardan angles; the kernel's chart 1 near their pole is not written out here). p[19], the pivot
+    model: 0 the spring and damper on the angles (MODELS B.1), 1 on the arm's direction e, V = k (1 - e_z),
+    R = c |e'|^2/2 (``pendulum.pivot = "isotropic"``).
 
     Written as a user would: the mass matrix and the right side of the Lagrange equations assembled
     with numpy from P = [e_j x r | dr/dq], solved with np.linalg.solve.
@@ -55,6 +57,7 @@ def spherical_pendulum_rhs(p: np.ndarray):
     Ic = p[3:12].reshape(3, 3)
     m, l, k, c = p[12], p[13], p[14], p[15]
     pivot = p[16:19]
+    isotropic = p[19] == 1
     mu = m * (1.0 - m / M)  # the bob's reduced mass: the carrier's COM takes up its momentum
 
     def f(t, y):
@@ -74,10 +77,14 @@ def spherical_pendulum_rhs(p: np.ndarray):
         Mm[0:3, 0:3] += Ic
         rhs = -mu * P.T @ bias
         rhs[0:3] -= cross(w, Ic @ w)
-        rhs[3:5] -= k * y[3:5] + c * qd
+        if isotropic:  # -grad of k (1 - e_z) and of c |e'|^2/2, |e'|^2 = cos^2 b alpha'^2 + beta'^2
+            rhs[3:5] -= k * np.array([sa * cb, ca * sb]) + c * np.array([cb * cb, 1.0]) * qd
+        else:
+            rhs[3:5] -= k * y[3:5] + c * qd
+        power = c * (cb * cb * ad * ad + bd * bd) if isotropic else c * (qd @ qd)
         X = np.linalg.solve(Mm, rhs)
         qw, qv = q[0], q[1:]
         qdot = np.concatenate([[-0.5 * qv @ w], 0.5 * (qw * w + cross(qv, w))])
-        return np.concatenate([X[0:3], qd, X[3:5], qdot, [c * (qd @ qd), 0.0]])  # the chart stays
+        return np.concatenate([X[0:3], qd, X[3:5], qdot, [power, 0.0]])  # the chart stays
 
     return f

@@ -7,6 +7,7 @@ short enough for Ctrl-C. Every end of the stepper's but braking is raised here a
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -74,7 +75,17 @@ def _simulate(scenario: Scenario, fidelity, method, progress) -> Trajectory:
     if lead:
         tr = tr.slice(1)
     tr.info.update(model=model.name, fidelity=fid, reason=reason, wall_s=time.perf_counter() - start)
+    tr.info.update(stated_error(scenario, fid))
     return tr
+
+
+def stated_error(sc: Scenario, fid: str) -> dict:
+    """``error_bound``: the max |theta - theta_full| (rad) the system states for this fidelity over the run (0 for
+    the full model, the reference; inf where the cheaper model makes no claim), and how it was obtained."""
+    system = get_system(sc.system)
+    bound = 0.0 if fid == "full" else system.error_bounds(sc, fid)
+    return dict(error_bound=math.inf if bound is None else float(bound),
+                error_bound_method=system.error_method or "none stated")
 
 
 def _fields(res):

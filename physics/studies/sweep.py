@@ -41,7 +41,9 @@ from physics.studies.metrics import METRICS
 from physics.systems.choice import available
 
 NOT_NUMERIC = {"run.samples"}  # a number, but a count of outputs, not a parameter of the motion
-TAIL_COLUMNS = ("model", "error", "scenario")  # after the varied keys and the metrics in the CSV
+# after the varied keys and the metrics in the CSV: error_bound is the run's stated max |theta - theta_full| (rad;
+# 0 for the full model, inf where its cheaper model makes no claim), as tr.info["error_bound"] gives it
+TAIL_COLUMNS = ("error_bound", "model", "error", "scenario")
 NOT_RUN = "(not run: the sweep was stopped)"
 SPEC_HELP = ('must be LO:HI:N (N values, linear), log:LO:HI:N (N values, geometric, LO and HI > 0), '
              'V1,V2,... (these values), a tuple (LO, HI, N) or ("log", LO, HI, N), or a list of values')
@@ -180,13 +182,14 @@ def run_point(base: Scenario, keys: Sequence[str], values: Sequence[float], metr
     start = time.perf_counter()
     row: dict = dict(zip(keys, (float(v) for v in values), strict=True))
     row.update({m: math.nan for m in metrics})
-    row["model"], row["error"] = "", ""
+    row["model"], row["error"], row["error_bound"] = "", "", math.nan
     try:
         sc = point_scenario(base, dict(zip(keys, values, strict=True)))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # a ValidityWarning per point would drown the progress bar
             tr = simulate(sc)
         row["model"] = str(tr.info.get("model", ""))
+        row["error_bound"] = float(tr.info.get("error_bound", math.nan))
         for m in metrics:
             row[m] = METRICS[m](tr, sc)
     except Exception as exc:  # noqa: BLE001 - one bad point must not end a sweep of hundreds
@@ -203,7 +206,8 @@ class SweepTable:
 
     ``keys``: the varied dotted keys; ``axes``: their values; ``spacing``: "linear", "log" or "list" per key;
     ``metrics``: the metric columns; ``metric``: the one charts show. ``rows``: dicts with the keys, the
-    metrics, ``model`` and ``error``. ``computed``/``skipped``: points run now / found in the CSV;
+    metrics, ``error_bound`` (the run's stated theta error against the full model, rad; ``info`` says how it
+    was obtained), ``model`` and ``error``. ``computed``/``skipped``: points run now / found in the CSV;
     ``wall_s``: wall time of this call; ``compute_s``: sum of the points' own times (in the workers).
     """
 
@@ -285,6 +289,7 @@ def _read_done(path: Path, header: list[str], keys: Sequence[str], metrics: Sequ
             parsed = {k: float(row[k]) for k in keys}
             parsed.update({m: float(row[m]) for m in metrics})
             parsed["model"], parsed["error"] = row["model"], row["error"]
+            parsed["error_bound"] = float(row["error_bound"])
             done[_point_key(parsed[k] for k in keys)] = parsed
     return done
 
@@ -438,7 +443,8 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
         state["compute_s"] += row.pop("compute_s", 0.0)
         results[_point_key(row[k] for k in keys)] = row
         if writer is not None:
-            writer.writerow([_fmt(row[c]) for c in (*keys, *metrics)] + [row["model"], row["error"], tag])
+            numbers = [_fmt(row[c]) for c in (*keys, *metrics, "error_bound")]
+            writer.writerow(numbers + [row["model"], row["error"], tag])
             fh.flush()
         if progress is not None:
             progress(state["done"], len(tasks))
@@ -465,14 +471,16 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
     for p in points:
         row = results.get(_point_key(p))
         if row is None:
-            row = dict(zip(keys, p, strict=True)) | {m: math.nan for m in metrics} | {"model": "", "error": NOT_RUN}
+            row = dict(zip(keys, p, strict=True)) | {m: math.nan for m in metrics} | {"model": "", "error": NOT_RUN,
+                                                                                       "error_bound": math.nan}
         rows.append({c: row[c] for c in header[:-1]})
     return SweepTable(base=scenario, keys=tuple(keys), axes=tuple(axes), spacing=tuple(spacing), metrics=metrics,
                       metric=metrics[0], rows=rows, computed=state["done"], skipped=skipped,
                       wall_s=time.perf_counter() - start, compute_s=state["compute_s"], out=path,
                       stopped=len(results.keys() & wanted) < len(points),
                       info={"workers": 1 if executor == "serial" and dask is None else workers,
-                            "executor": "dask" if dask is not None else executor})
+                            "executor": "dask" if dask is not None else executor,
+                            "error_bound_method": get_system(scenario.system).error_method})
 
 
 __all__ = ["SweepTable", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "run_point",

@@ -60,3 +60,32 @@ def resolve(sc, fidelity: str | None = None, *, warn: bool = False) -> Resolved:
             warnings.warn(f"the {fid} model is outside its validity conditions: " + "; ".join(failed),
                           ValidityWarning, stacklevel=3)
     return Resolved(get_model(sc.system, fid), fid, reason)
+
+
+# auto's accuracy in theta (rad) when the scenario sets no run.accuracy: a third of a degree, below what the
+# explorer's plots show apart, and within what every cheaper model's estimate can promise on its own domain
+DEFAULT_ACCURACY = 1e-2
+CHEAPEST_FIRST = ("closed", "averaged")
+
+
+def cheapest_within(sc, failed) -> tuple[str, str]:
+    """``auto``'s pick from error estimates: the cheapest available model whose estimate (the system's
+    ``error_bounds``) is at most ``run.accuracy`` (DEFAULT_ACCURACY when unset), else the full model. ``failed``:
+    the structural conditions that do not hold (their estimates do not cover them), which rule out every
+    cheaper model."""
+    system = get_system(sc.system)
+    tol = sc.run.accuracy if sc.run.accuracy is not None else DEFAULT_ACCURACY
+    asked = f"accuracy {tol:g} rad" + ("" if sc.run.accuracy is not None else " (the default; set run.accuracy)")
+    if failed:
+        return "full", "conditions fail: " + "; ".join(map(str, failed))
+    worst = None
+    for fid in CHEAPEST_FIRST:
+        if fid not in system.models or not system.available(sc, fid)[0]:
+            continue
+        est = system.error_bounds(sc, fid)
+        if est is None:
+            continue
+        if est <= tol:
+            return fid, f"{fid} error estimate {est:.2g} rad <= {asked}"
+        worst = worst or f"{fid} error estimate {est:.2g} rad > {asked}"
+    return "full", worst or "no cheaper model has an error estimate here"

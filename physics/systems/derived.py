@@ -4,6 +4,8 @@ choice with its reason and error estimates."""
 
 from __future__ import annotations
 
+import math
+
 from physics.core.blame import guarded
 from physics.registry import get_system
 from physics.scenario.scenario import Scenario
@@ -36,21 +38,28 @@ def auto_choice(sc: Scenario) -> dict[str, float | str]:
     """What fidelity ``auto`` runs for ``sc`` and why, as the keys of ``physics.derived``:
 
     - auto_fidelity, auto_model (registry name), auto_method (integrator and its setting);
-    - auto_accuracy: the requested theta accuracy ``run.accuracy`` (rad), or "not set";
-    - averaged_error_bound: the averaged model's estimated max theta error against the full model (rad),
-      where the system gives one;
+    - auto_accuracy: the requested theta accuracy ``run.accuracy`` (rad), or "not set" (auto then uses
+      physics.systems.choice.DEFAULT_ACCURACY);
+    - averaged_error_bound, closed_error_bound: each cheaper model's estimated max |theta - theta_full| over
+      [0, t_end] (rad), for every cheaper fidelity the system has (inf where it states no estimate: outside the
+      conditions its estimate was calibrated on);
     - auto_error_bound: that estimate for the chosen model (0 when the full model is chosen: it is the
       reference, with only the integrator's error, set by rtol);
-    - auto_reason: the chooser's sentence (conditions, or bound against the requested accuracy).
+    - error_bound_method: how the estimates were obtained (the system's ``error_method``);
+    - auto_reason: the chooser's sentence (conditions, or estimate against the accuracy).
     """
     system = get_system(sc.system)
     fid, reason = choose_fidelity(sc)
     out: dict[str, float | str] = dict(auto_fidelity=fid, auto_model=f"{sc.system}/{fid}",
                                        auto_method=_method_text(sc, fid))
     out["auto_accuracy"] = sc.run.accuracy if sc.run.accuracy is not None else "not set"
-    bound = system.error_bounds(sc, "averaged")
-    if bound is not None:
-        out["averaged_error_bound"] = bound
-        out["auto_error_bound"] = 0.0 if fid == "full" else bound
+    for cheaper in system.fidelities[1:]:
+        if cheaper == "full":
+            continue
+        bound = system.error_bounds(sc, cheaper)
+        out[f"{cheaper}_error_bound"] = math.inf if bound is None else bound
+    if len(system.fidelities) > 2:
+        out["auto_error_bound"] = 0.0 if fid == "full" else out[f"{fid}_error_bound"]
+        out["error_bound_method"] = system.error_method or "none stated"
     out["auto_reason"] = reason
     return out

@@ -1,51 +1,155 @@
-"""Fidelity ``auto`` against a requested accuracy: the cheapest model whose measured error bound
-meets ``run.accuracy`` (rad, in theta) and whose structural validity conditions hold.
+"""How far the moving mass's averaged and closed-form theta can be from the full model's: an estimate that
+holds, measured against the full model (issue 15, ``python -m bench fidelity``).
 
-The averaged model's theta error is O(eps^2), eps = |w0|/Omega, uniformly over the slow time scale
-(MODELS.md A.5). Its coefficient was measured against the full model (MODELS A.5 and A.7(a), prolate
-C = 0.5, theta 0.3 -> 1.03, |w0| = 1.913 Omega eps_table): max error / eps^2 = 0.0101, 0.0216, 0.0656,
-0.109 at m/M = 0, 0.1, 0.3, 0.5; oblate (C = 1.4, |w0| = 0.926 Omega eps_table) is 0.517 at m/M = 0.1.
-``python -m bench stability`` maps it over theta0 too: at eps = 0.1 (prolate) theta0 = 1 gives 4x the
-theta0 = 0.3 coefficient, hence SAFETY.
+The cheaper models follow the full model's slow motion with two kinds of error, both O(eps^2):
+
+- **A start apart.** The full model's K is not J* w0: the quasi-static mass adds m rho x u'-like terms, so
+  its theta starts ``offset`` away from the averaged theta0 (computed exactly here, from the full model's
+  own initial state). Carried along the slow motion, a start apart is a time shift: at time t it is
+  ``offset |theta'(t)| / |theta'(0)|`` (``shift`` term).
+- **A slow rate apart.** The averaged dissipation is the first term of an expansion in eps = |w0|/Omega;
+  the next one changes the slow rate by a relative ``delta``. Measured, delta grows like eps^2 (1 + m rho^2 /
+  (A |1 - C/A|)): the mass's centrifugal displacement moves the body's effective C/A by ~ m rho^2 eps^2 / A,
+  which matters next to |1 - C/A|. A relative rate error is a time error delta t, so theta is off by
+  ``delta t |theta'(t)|`` (``rate`` term).
+- A medium or a brake acting on the full model's w (not on its K) turns K by ~ (lambda + b/G0) t offset
+  (``external`` term).
+
+theta(t) and theta'(t) are the cheaper model's own (its closed form at PATH_SAMPLES
+points), so the estimate follows the run's horizon and shape. The coefficients (``RATE_*``, ``EXTERNAL``) and
+``SAFETY`` were fitted on a calibration set of the study (``python -m bench fidelity --seed 7``) and checked on
+another (seed 15, the study quoted in docs/models.md). Outside the domain the study covers (``DOMAIN``), or
+where a structural condition fails, the estimate is infinite: no claim is made and ``auto`` runs the full model.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numpy as np
 
+from physics.registry import Condition, get_model
 from physics.scenario.scenario import Scenario
 from physics.systems.moving_mass.coefficients import coefficients
 
-ETA_POINTS = (0.0, 0.1, 0.3, 0.5)  # m/M of the measured coefficients
-PROLATE_COEFF = (0.0101, 0.0216, 0.0656, 0.109)  # max |theta_full - theta_avg| / eps^2, MODELS A.5
-OBLATE_FACTOR = 0.517 / 0.0216  # oblate / prolate at m/M = 0.1, MODELS A.7(a)
-SAFETY = 5.0  # theta0 and shape spread beyond the measured cases (bench validity map: 4x)
+PATH_SAMPLES = 257  # points of the cheaper model's theta(t) the terms are read from
+# Fitted on the calibration set (the moving-mass draws of python -m bench fidelity --seed 7 --n 240: 143 of 160 in
+# the domain; a grid search minimised the median estimate/actual once every case held): with these, every case
+# there holds at a factor of 1.04 (median estimate/actual 1.69), and SAFETY leaves 2.4x beyond that
+RATE_BASE = 3.0  # delta / eps^2 for a far-from-spherical, light mass (a separate oblate/prolate value fit no better)
+RATE_SHAPE = 1.0  # the m rho^2 / (A |1 - C/A|) part of delta / eps^2
+EXTERNAL = 4.0  # the medium's and brake's turn of K, per its integral (Terms.external)
+SAFETY = 2.5
+
+# The domain the study covers: (name, value of sc, limit). The estimate claims nothing outside it.
+DOMAIN_EPS = 0.2
+DOMAIN_KAPPA = 0.7  # m rho^2 / A
+DOMAIN_ASPHERICITY = 0.04  # |1 - C/A| at least
+DOMAIN_THETA0 = 1.5  # min(theta0, pi - theta0), rad
+DOMAIN_CHI = (0.2, 3.0)  # chi / Omega
+
+
+@dataclass(frozen=True)
+class Terms:
+    """The estimate's parts before the coefficients (rad, or rad per unit delta for ``rate``)."""
+
+    offset: float  # |theta_full(0) - theta0|
+    shift: float  # offset max(1, max |theta'| / |theta'(0)|)
+    rate: float  # max_t t |theta'(t)|
+    external: float  # offset(theta) (lambda + b/|G|) integrated along the path
+
+
+def domain(sc: Scenario) -> list[Condition]:
+    """Where the estimate was calibrated: each a Condition (``holds`` inside)."""
+    co = coefficients(sc)
+    ms, A, C = sc.mass, sc.body.A, sc.body.C
+    th0 = min(co.theta0, math.pi - co.theta0)
+    chi = ms.chi / ms.Omega
+    return [Condition("eps = |w0|/Omega", co.omega0 / ms.Omega, DOMAIN_EPS),
+            Condition("m rho^2 / A", ms.m * ms.rho * ms.rho / A, DOMAIN_KAPPA),
+            Condition("1 / |1 - C/A|", 1.0 / max(abs(1.0 - C / A), 1e-300), 1.0 / DOMAIN_ASPHERICITY),
+            Condition("min(theta0, pi - theta0)", th0, DOMAIN_THETA0),
+            Condition("Omega / chi", 1.0 / max(chi, 1e-300), 1.0 / DOMAIN_CHI[0]),
+            Condition("chi / Omega", chi, DOMAIN_CHI[1])]
+
+
+def slow_path(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(t, theta, |G|) of the cheaper model at PATH_SAMPLES times over [0, t_end], from its closed form (the
+    averaged and closed models agree to rounding; where no closed form exists, quadratic friction with other
+    parts, the estimate makes no claim before it gets here)."""
+    t = np.linspace(0.0, sc.run.t_end, PATH_SAMPLES)
+    tr = get_model("moving_mass", "closed").solve(sc, t)
+    return np.asarray(tr.t), np.asarray(tr.theta), np.asarray(tr.K)
+
+
+def _offset_at(sc: Scenario) -> float:
+    full = get_model("moving_mass", "full")
+    p = full.pack(sc)
+    y0 = np.asarray(full.initial_state(sc, p), dtype=float)
+    return abs(float(full.observe(np.zeros(1), y0[None, :], p, sc).theta[0]) - coefficients(sc).theta0)
+
+
+def start_offset(sc: Scenario) -> float:
+    """|theta_full(0) - theta0|: where the full model's K starts against the cheaper models' J* w0. A mass
+    that starts at rest (theta_full(0) = theta0) settles within ~1/chi onto the quasi-static motion, which is
+    that far off: the larger of the two is taken."""
+    out = _offset_at(sc)
+    if sc.initial.mass_state != "quasistatic":
+        out = max(out, _offset_at(sc.with_values(**{"initial.mass_state": "quasistatic"})))
+    return out
+
+
+def offset_scale(sc: Scenario) -> float:
+    """k in offset(theta) = k |sin 2 theta|: the angle between K and J* w at any nutation angle (measured: the
+    offset follows sin 2 theta to 0.2 % from theta = 0.05 to 1.5 rad), read at theta = pi/4."""
+    quarter = sc.with_values(**{"initial.theta0": math.pi / 4, "initial.mass_state": "quasistatic"})
+    return _offset_at(quarter)
+
+
+def terms(sc: Scenario) -> Terms:
+    t, theta, G = slow_path(sc)
+    rate = np.abs(np.gradient(theta, t)) if len(t) > 2 else np.zeros_like(t)
+    off = start_offset(sc)
+    r0 = rate[0] if len(rate) else 0.0
+    grow = float(np.max(rate)) / r0 if r0 > 0 else (math.inf if off > 0 else 1.0)
+    co = coefficients(sc)
+    ext = 0.0
+    if co.lam > 0 or co.b > 0:
+        # the medium and the brake act on the full model's w, which is off K by offset(theta): K turns at
+        # (lambda + b/|G|) offset(theta), accumulated along the path
+        brake = co.b / np.maximum(G, 1e-300)
+        turn = (co.lam + brake) * np.abs(np.sin(2 * theta))
+        ext = offset_scale(sc) * float(np.sum(0.5 * (turn[1:] + turn[:-1]) * np.diff(t)))
+    return Terms(offset=off, shift=off * max(1.0, grow) if off > 0 else 0.0,
+                 rate=float(np.max(t * rate)) if len(t) else 0.0, external=ext)
+
+
+def delta(sc: Scenario) -> float:
+    """The relative slow-rate error of the averaged model (measured form, see the module docstring)."""
+    co = coefficients(sc)
+    eps = co.omega0 / sc.mass.Omega
+    shape = sc.mass.m * sc.mass.rho * sc.mass.rho / (sc.body.A * abs(1.0 - sc.body.C / sc.body.A))
+    return eps * eps * (RATE_BASE + RATE_SHAPE * shape)
+
+
+def estimate(sc: Scenario, parts: Terms | None = None) -> float:
+    """SAFETY x (shift + delta rate + EXTERNAL external), at most pi (theta lies in [0, pi])."""
+    parts = parts or terms(sc)
+    raw = parts.shift + delta(sc) * parts.rate + EXTERNAL * parts.external
+    return float(min(math.pi, SAFETY * raw))
 
 
 def averaged_error_bound(sc: Scenario) -> float:
-    """Bound on max |theta_full - theta_averaged| (rad) for a moving-mass scenario."""
-    eps = coefficients(sc).omega0 / sc.mass.Omega
-    eta = sc.mass.m / sc.body.M
-    c = float(np.interp(eta, ETA_POINTS, PROLATE_COEFF, right=PROLATE_COEFF[-1] * eta / ETA_POINTS[-1]))
-    if sc.body.C > sc.body.A:
-        c *= OBLATE_FACTOR
-    return SAFETY * c * eps**2
+    """Estimated max |theta_full - theta_averaged| (rad) over [0, t_end] for a moving-mass scenario: inf where
+    the estimate makes no claim (no mass, a structural condition or the calibrated domain fails)."""
+    from physics.systems.moving_mass.validity import structural_failures
+
+    if sc.mass is None or structural_failures(sc) or any(not c.holds for c in domain(sc)):
+        return math.inf
+    return estimate(sc)
 
 
-def choose_for_accuracy(sc: Scenario) -> tuple[str, str] | None:
-    """(fidelity, reason) for ``run.accuracy``, or None when this chooser does not cover the system."""
-    from physics.systems.moving_mass.validity import averaged_conditions, closed_form_available
-
-    tol = sc.run.accuracy
-    if tol is None or sc.system != "moving_mass" or sc.mass is None:
-        return None
-    bound = averaged_error_bound(sc)
-    # the eps condition is replaced by the measured error bound; the structural ones still apply
-    failed = [c for c in averaged_conditions(sc) if not c.holds and not c.name.startswith("eps")]
-    if failed:
-        return "full", "averaged conditions fail: " + "; ".join(map(str, failed))
-    if bound > tol:
-        return "full", f"averaged error bound {bound:.2g} rad > requested accuracy {tol:g} rad"
-    ok, why = closed_form_available(sc)
-    fid = "closed" if ok else "averaged"
-    return fid, f"averaged error bound {bound:.2g} rad <= requested accuracy {tol:g} rad; {why}"
+METHOD = ("the full model's own start against theta0, carried along the cheaper model's theta(t) with a measured "
+          f"O(eps^2) rate error, x{SAFETY:g} safety; calibrated against the full model (python -m bench fidelity, "
+          "seed 7), checked on seed 15 (docs/models.md)")

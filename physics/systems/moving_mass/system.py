@@ -15,6 +15,7 @@ import numpy as np
 from physics.core.errors import ScenarioError
 from physics.registry import Param, System, Table, register_system
 from physics.systems.moving_mass import closed_model, models  # noqa: F401  (registers the models)
+from physics.systems.moving_mass.accuracy import METHOD, averaged_error_bound
 from physics.systems.moving_mass.models import quasi_static_displacement
 from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium
 from physics.systems.moving_mass.quantities import QUANTITIES
@@ -97,11 +98,12 @@ def derived(sc) -> dict[str, float | str]:
 
 
 def error_bounds(sc, fidelity: str) -> float | None:
-    """Estimated max |theta_full - theta| (rad) of the averaged (and closed) model, with a mass only."""
-    if fidelity not in ("averaged", "closed") or sc.mass is None:
+    """Estimated max |theta_full - theta| (rad) over [0, t_end] of the averaged and closed models (they agree to
+    rounding where both exist); inf where the estimate makes no claim."""
+    if fidelity not in ("averaged", "closed"):
         return None
-    from physics.systems.moving_mass.accuracy import averaged_error_bound
-
+    if fidelity == "closed" and not closed_form_available(sc)[0]:
+        return None
     return averaged_error_bound(sc)
 
 
@@ -166,7 +168,7 @@ SYSTEM = register_system(System(
     example=resources.files("physics").joinpath("data/default.toml").read_text(encoding="utf-8"),
     params=PARAMS, folders=(MASS_FOLDER, FRICTION_FOLDER), default=True,
     check=check, conditions=averaged_conditions, choose=choose, available=available, derived=derived,
-    error_bounds=error_bounds, edit=edit, values=values, amplitude=amplitude,
+    error_bounds=error_bounds, error_method=METHOD, edit=edit, values=values, amplitude=amplitude,
     parts={PART: STATE}, start_part=start_part, check_run=check_carrier, braking_time=braking_time,
     quantities=QUANTITIES,
 ))

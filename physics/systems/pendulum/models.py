@@ -20,7 +20,8 @@ from physics.systems.pendulum.geometry import pendulum_system
 
 
 def pack(sc: Scenario) -> np.ndarray:
-    """The flat parameter vector of physics/compiled/pendulum.py (layout in its docstring)."""
+    """The flat parameter vector of physics/compiled/pendulum.py (layout in its docstring). The spherical
+    pendulum's ``pivot`` ("cardan" or "isotropic") goes in p[12 + 7] (kernel.PIVOT): 0 or 1."""
     system = pendulum_system(sc)
     kind = kernel.SPHERICAL if system.bobs[0].kind == "spherical" else kernel.PLANE
     p = np.zeros(kernel.n_params(len(system.bobs)))
@@ -28,10 +29,13 @@ def pack(sc: Scenario) -> np.ndarray:
     p[3:12] = np.asarray(system.I_c, dtype=float).reshape(9)
     for i, bob in enumerate(system.bobs):
         o = kernel.HEADER + kernel.BOB * i
-        n = np.asarray(bob.axis, dtype=float)
-        e0 = np.asarray(bob.arm, dtype=float)
         p[o:o + 4] = bob.m, bob.l, float(bob.k), bob.c_d
         p[o + 4:o + 7] = bob.pivot
+        if kind == kernel.SPHERICAL:  # p[o+7] the pivot model (pendulum.pivot); p[o+8:o+16] unused, 0
+            p[o + kernel.PIVOT] = kernel.ISOTROPIC if sc.pendulum.pivot == "isotropic" else kernel.CARDAN
+            continue
+        n = np.asarray(bob.axis, dtype=float)
+        e0 = np.asarray(bob.arm, dtype=float)
         p[o + 7:o + 10] = n
         p[o + 10:o + 13] = e0
         p[o + 13:o + 16] = np.cross(n, e0)

@@ -7,6 +7,11 @@ angles. ``[[plane_pendulum]]`` is one of Taylor's plane pendulums: a hinge point
 hinge axis, an arm direction at rest (perpendicular to the axis), l, m, k, c_d; or a named
 ``preset`` geometry of MODELS B.7 placed by ``R``, ``z_p`` and ``azimuth`` (rad).
 ``k`` may be "resonant" or "optimal" (spherical pendulum): tuned from the scenario (MODELS B.5).
+``pivot`` (spherical pendulum) says what the spring and damper act on: "cardan" (the default, the paper's
+model, MODELS B.1): the two gimbal angles, V = k (alpha^2 + beta^2)/2, singular where the arm is
+perpendicular to both gimbal axes (|beta| = 90 deg), so the run stops there with a spring; "isotropic": the
+arm's direction e, V = k (1 - e.e3), R = c_d |e'|^2/2, the same to second order in the angles and defined at
+every position, so the run goes on through that pole (physics/compiled/pendulum.py).
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ from physics.scenario.params import _number, nonneg, positive
 
 TUNINGS = ("resonant", "optimal")
 PRESETS = ("in_plane", "meridian_out", "meridian_in", "meridian_axis")
+PIVOTS = ("cardan", "isotropic")  # pendulum.pivot: spring and damper on the Cardan angles, or on the arm's direction
 
 
 def _stiffness(key: str, value) -> float | str:
@@ -42,13 +48,14 @@ def _vector(key: str, value, *, nonzero: bool) -> tuple[float, float, float]:
 
 @dataclass(frozen=True)
 class Pendulum:
-    """Spherical pendulum (seed 002, Alger's damper; MODELS B.1)."""
+    """Spherical pendulum (seed 002, Alger's damper; MODELS B.1). ``pivot``: see the module docstring."""
 
     m: float
     l: float
     h: float
     k: float | str
     c_d: float = 0.0
+    pivot: str = "cardan"
 
     def __post_init__(self):
         object.__setattr__(self, "m", positive("pendulum.m", self.m))
@@ -56,6 +63,10 @@ class Pendulum:
         object.__setattr__(self, "h", _number("pendulum.h", self.h))
         object.__setattr__(self, "k", _stiffness("pendulum.k", self.k))
         object.__setattr__(self, "c_d", nonneg("pendulum.c_d", self.c_d))
+        if not isinstance(self.pivot, str) or self.pivot not in PIVOTS:
+            raise ScenarioError("pendulum.pivot", self.pivot, 'must be "cardan" (spring and damper on the gimbal '
+                                'angles, the paper\'s model) or "isotropic" (on the arm\'s direction: goes on through '
+                                "the gimbal pole)")
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ import numpy as np
 
 from physics.core.errors import ScenarioError
 from physics.registry import Param, System, Table, register_system
-from physics.systems.pendulum import averaged, models  # noqa: F401  (registers the models)
+from physics.systems.pendulum import averaged, models, validity  # noqa: F401  (registers the models)
 from physics.systems.pendulum.params import Pendulum, PlanePendulum
 from physics.systems.pendulum.quantities import QUANTITIES, quantity
 
@@ -177,7 +177,8 @@ SPHERICAL = register_system(System(
     name="spherical_pendulum", label="spherical pendulum",
     summary="Alger's spherical pendulum on a two-gimbal pivot with a torsional spring and damper (MODELS B.1)",
     tables=(Table("pendulum", Pendulum),), example=SPHERICAL_EXAMPLE, params=_params("spherical"), folders=(FOLDER,),
-    check=check, conditions=averaged.averaged_conditions, choose=averaged.choose, derived=derived, edit=edit,
+    check=check, conditions=validity.averaged_conditions, choose=validity.choose, derived=derived, edit=edit,
+    error_bounds=validity.error_bounds, error_method=validity.METHOD,
     values=lambda sc, item=None: _values(sc, sc.pendulum), amplitude=spherical_amplitude,
     quantities=QUANTITIES, quantity=quantity,
 ))

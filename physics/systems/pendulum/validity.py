@@ -1,0 +1,74 @@
+"""Where the spherical pendulum's averaged model may run, its error estimate, and ``auto``'s choice (issue 15).
+
+Since issue 15 the averaged model's error is estimated (``accuracy.averaged_error_bound``: the detuning, the
+coupling, the damping, the amplitude nonlinearity and the horizon are all in it), so the old limits of MODELS
+B.10 on those no longer block it: ``auto`` runs it when the estimate meets run.accuracy. What remains are the
+structural conditions the estimate cannot cover: a spring (the model averages about omega_0), a symmetric
+carrier (its equations are for A = B), and the domain the estimate was calibrated on, stated in the pendulum's
+own swing amplitude from linear theory (not theta0: in weakly coupled cases the bob swings ~6 times theta0):
+the swing itself, and the amplitude-dependent detuning it causes against the resonance's width; and the
+coupling mu D^2/A.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from physics.registry import Condition
+from physics.scenario.scenario import Scenario
+from physics.systems.choice import cheapest_within
+from physics.systems.pendulum.accuracy import SAFETY, averaged_error_bound, scenario_parts
+from physics.systems.pendulum.geometry import pendulum_system
+from physics.systems.pendulum.linear import spherical_linear
+
+ASYM_MAX = 1e-9  # |A - B| / A: the averaged equations are for a symmetric carrier
+SWING_MAX = 1.0  # rad, the bob's largest swing in linear theory: the calibration study's range (bench fidelity)
+# the amplitude-dependent detuning (from the bob's swing in linear theory and theta0) over the resonance's width:
+# beyond 1 the nonlinearity pulls the pendulum across the resonance, the estimate's first-order sensitivities no
+# longer bound the error (up to 2.4x measured between 1 and 3), and the averaged model is off by > 1e-2 rad in
+# 77 of the study's 81 such scenarios anyway
+NONLINEAR_MAX = 1.0
+COUPLING_MAX = 0.02  # mu D^2 / A: the calibration study's range (its largest were 0.014-0.018)
+
+# derived's ``error_bound_method`` and the explorer's badge: how the estimate is obtained, in one sentence
+METHOD = ("the averaged model's distance from the exact linear theory plus its change under the amplitude-"
+          "dependent detuning (spin-up W theta0^2/2, the bob's swing from linear theory), over [0, t_end], "
+          f"times a safety factor {SAFETY:g} calibrated against the full model (python -m bench fidelity, "
+          "docs/models.md)")
+
+
+def averaged_conditions(sc: Scenario) -> list[Condition]:
+    """The averaged model's structural conditions (module docstring); the swing is computed only when the
+    others hold (it needs the spring)."""
+    system = pendulum_system(sc)
+    A, B, _ = np.diag(system.I_c)
+    p = spherical_linear(system)
+    if not p.omega0 > 0:  # no spring: no resonance to average about
+        return [Condition("1/omega_0 (k = 0: no spring frequency)", math.inf, 0.0)]
+    out = [Condition("|A - B| / A", abs(A - B) / A, ASYM_MAX),
+           Condition("mu D^2 / A", p.coupling, COUPLING_MAX)]
+    if all(c.holds for c in out):
+        q = scenario_parts(sc)
+        if not math.isfinite(q.a):  # far from resonance the averaged model may even grow, and overflow over t_end
+            return out + [Condition("error estimate finite over t_end (a model's mode grows)", math.inf, 0.0)]
+        out += [Condition("pendulum swing (linear theory, rad)", q.a, SWING_MAX),
+                Condition("amplitude detuning / resonance width", q.shift / q.width if q.width > 0 else math.inf,
+                          NONLINEAR_MAX)]
+    return out
+
+
+def error_bounds(sc: Scenario, fidelity: str) -> float | None:
+    """The averaged model's estimated max |theta - theta_full| over [0, t_end] (rad), None for any other
+    fidelity or where a structural condition fails (the estimate was not calibrated there)."""
+    if fidelity != "averaged" or not all(c.holds for c in averaged_conditions(sc)):
+        return None
+    return averaged_error_bound(sc)
+
+
+def choose(sc: Scenario) -> tuple[str, str]:
+    """``auto``'s pick: the averaged model when its structural conditions hold and its estimate meets
+    run.accuracy (physics.systems.choice.DEFAULT_ACCURACY when unset), else the full model, and why."""
+
+    return cheapest_within(sc, [c for c in averaged_conditions(sc) if not c.holds])

@@ -1,0 +1,173 @@
+"""The spherical pendulum's averaged-model error estimate against the full model (issue 15;
+physics/systems/pendulum/accuracy.py, validity.py), auto's choice from it, and the averaged model's long-horizon
+NaN fixed (physics/systems/pendulum/averaged.py)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import physics
+from physics.systems.choice import DEFAULT_ACCURACY, choose_fidelity
+from physics.systems.pendulum import accuracy, validity
+from physics.systems.pendulum import averaged as pa
+from physics.systems.pendulum import linear as pl
+from physics.systems.pendulum.geometry import pendulum_system
+
+deg = math.pi / 180
+USEFUL = 10.0  # the issue's usefulness goal: an estimate at most this many times the actual error
+
+# issue 15's reproduction: auto picked averaged; the averaged e-folding time was 241 s against the full model's 167
+REPRO = {"body": {"A": 100.00983818953664, "B": 100.00983818953664, "C": 174.02745353415781, "M": 696.1927397013416},
+         "pendulum": {"m": 1.2340016570643757, "l": 0.3764052949489212, "h": -0.28719510047130004,
+                      "k": 0.6365312201679668, "c_d": 0.02001365125790713},
+         "initial": {"omega": [0.04288997377273595, 0.0, 1.1081875157419305]},
+         "run": {"fidelity": "auto", "t_end": 445.76, "samples": 4001}}
+
+# a calibration-study draw (bench fidelity, pendulum_case before issue 15) whose averaged theta turned NaN after
+# t ~ 1140 s: strong damping (ct / lambda_1 = 10) made e^{tau t/2} underflow while cosh(q t) overflowed
+NAN_CASE = {"body": {"A": 100.0, "C": 132.11456121980575, "M": 337.6727173322763},
+            "pendulum": {"m": 0.6008399513979463, "l": 0.4864963499432823, "h": -0.22043882637225132,
+                         "k": 0.6508537286533053, "c_d": 1.7181858081531496},
+            "initial": {"G0": 225.79629288590507, "theta0": 0.10202122263253555},
+            "run": {"t_end": 1866.4626866388292, "samples": 1001, "rtol": 1e-10}}
+
+
+def set_r(eps: float, *, theta0: float = 1 * deg, t_end: float | None = None, c_d: float | None = None,
+          k="resonant", samples: int = 2001) -> physics.Scenario:
+    """Set R with the coupling D (through h) and the damping c_d scaled by eps (as tests/test_pendulum_averaged)."""
+    M0, m, l, W = 500.0, 5.0, 1.0, 2.0
+    h = -l + 0.3 * eps
+    A = 100.0 + m * (M0 + m) * (h + l) ** 2 / M0
+    return physics.Scenario.from_dict({
+        "body": {"A": A, "C": 150.0, "M": M0 + m},
+        "pendulum": {"m": m, "l": l, "h": h, "k": k, "c_d": 8.0 * eps if c_d is None else c_d},
+        "initial": {"omega": [150.0 * W * math.tan(theta0) / A, 0.0, W]},
+        "run": {"t_end": 60.0 / eps if t_end is None else t_end, "samples": samples, "rtol": 1e-11},
+    })
+
+
+def actual_error(sc: physics.Scenario) -> tuple[float, physics.Trajectory]:
+    """(max |theta_averaged - theta_full| on the full model's samples, the full trajectory)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", physics.ValidityWarning)
+        full = physics.simulate(sc, fidelity="full")
+        avg = physics.simulate(sc, fidelity="averaged")
+    assert np.array_equal(full.t, avg.t)
+    return float(np.max(np.abs(avg.theta - full.theta))), full
+
+
+def test_the_issue_reproduction_is_covered():
+    sc = physics.Scenario.from_dict(REPRO)
+    err, full = actual_error(sc)
+    d = physics.derived(sc)
+    assert err > 1e-3  # what the issue saw: the averaged model is off by much more than B.10's "5 %" promised
+    assert d["averaged_error_bound"] >= err and d["averaged_error_bound"] <= USEFUL * err
+    assert d["auto_fidelity"] == "full" or d["auto_error_bound"] >= err
+    assert d["error_bound_method"] == validity.METHOD and "averaged error estimate" in d["auto_reason"]
+    # the estimate (~7e-3 rad) is within the default accuracy (auto runs averaged, and its bound holds) but not
+    # within a tighter one, where auto falls back to the full model and says why
+    assert d["averaged_error_bound"] <= DEFAULT_ACCURACY and d["auto_fidelity"] == "averaged"
+    tight = physics.derived(sc.with_values(**{"run.accuracy": 1e-3}))
+    assert tight["auto_fidelity"] == "full" and tight["auto_error_bound"] == 0.0 and ">" in tight["auto_reason"]
+
+
+# (scenario, which part of the estimate dominates): each estimate against the full model
+HANDFUL = {
+    "resonant, 0.5 deg": (lambda: set_r(1 / 8, theta0=0.5 * deg), "rate_gap"),
+    "detuned": (lambda: set_r(1 / 8, theta0=0.5 * deg, k=5.0 * 500 / 505 * 3.3**2), "linear_gap"),
+    "strong coupling (g/|Omega| = 0.2)": (lambda: set_r(1.0), "linear_gap"),
+    "strong damping (ct/lambda_1 = 4)": (lambda: set_r(1 / 8, c_d=20.0, t_end=200.0), "linear_gap"),
+    "3 deg, the bob swings 0.06 rad": (lambda: set_r(1 / 8, theta0=3 * deg, t_end=300.0), "rate_gap"),
+}
+
+
+@pytest.mark.parametrize("name", HANDFUL)
+def test_the_estimate_holds_and_is_useful(name):
+    make, dominant = HANDFUL[name]
+    sc = make()
+    err, _ = actual_error(sc)
+    q = accuracy.scenario_parts(sc)
+    assert err <= accuracy.averaged_error_bound(sc) <= USEFUL * err
+    assert max(q.linear_gap, q.detuning_gap, q.rate_gap) == getattr(q, dominant)
+
+
+def test_the_linear_gap_is_the_error_where_the_full_model_is_linear():
+    """0.2 deg, detuned: the nonlinear parts vanish and the full model follows linear theory, so the actual error
+    is the averaged model's distance from linear theory (the estimate's exact part) to within 2 %."""
+    sc = set_r(1 / 4, theta0=0.2 * deg, k=5.0 * 500 / 505 * 3.3**2, t_end=240.0)
+    err, _ = actual_error(sc)
+    q = accuracy.scenario_parts(sc)
+    assert max(q.detuning_gap, q.rate_gap) < 0.01 * q.linear_gap
+    assert q.linear_gap == pytest.approx(err, rel=0.02)
+
+
+def test_the_conditions_use_the_pendulums_own_amplitude():
+    """The issue: in weakly coupled cases the bob swings ~6 times theta0, so an amplitude condition on theta0
+    misjudges the nonlinearity. The remaining condition is on the swing from linear theory, which matches the
+    full model's and scales with theta0."""
+    sc = physics.Scenario.from_dict(REPRO)
+    _, full = actual_error(sc)
+    swing_full = float(np.max(np.hypot(full.internal["alpha"], full.internal["beta"])))
+    theta0 = physics.derived(sc)["theta0"]
+    conds = {c.name: c for c in validity.averaged_conditions(sc)}
+    swing = conds["pendulum swing (linear theory, rad)"]
+    assert swing.value == accuracy.pendulum_amplitude(sc)
+    assert swing.value == pytest.approx(swing_full, rel=0.05) and swing.value > 5 * theta0
+    assert not any("theta0" in name for name in conds)
+    half = sc.with_values(**{"initial.omega": [REPRO["initial"]["omega"][0] / 2, 0.0, REPRO["initial"]["omega"][2]]})
+    assert accuracy.pendulum_amplitude(half) == pytest.approx(swing.value / 2, rel=1e-3)
+    # a swing beyond the calibrated range fails the condition, and auto then says so
+    wide = sc.with_values(**{"initial.omega": [REPRO["initial"]["omega"][0] * 10, 0.0, REPRO["initial"]["omega"][2]]})
+    fid, why = choose_fidelity(wide)
+    assert accuracy.pendulum_amplitude(wide) > validity.SWING_MAX
+    assert fid == "full" and "pendulum swing" in why
+    assert validity.error_bounds(wide, "averaged") is None and validity.error_bounds(sc, "full") is None
+
+
+def test_the_strongly_damped_case_stays_finite_and_matches_the_full_model():
+    sc = physics.Scenario.from_dict(NAN_CASE)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", physics.ValidityWarning)
+        avg = physics.simulate(sc, fidelity="averaged")
+    assert np.all(np.isfinite(avg.theta)) and np.all(np.isfinite(avg.quat)) and np.all(np.isfinite(avg.E))
+    co = pa.AveragedCoefficients(pl.spherical_linear(pendulum_system(sc)))
+    from scipy.linalg import expm
+
+    t = np.array([10.0, 1142.3, 1866.0])  # past 1142 s the old propagator returned NaN
+    exact = np.array([expm(co.matrix * s) for s in t])
+    assert np.allclose(co.propagator(t), exact, rtol=1e-9, atol=1e-12 * np.max(np.abs(exact)))
+    # and the estimate covers it over a shortened horizon (the full model needs ~1.7e5 steps for all of it)
+    short = sc.with_values(**{"run.t_end": 400.0})
+    err, _ = actual_error(short)
+    assert err <= accuracy.averaged_error_bound(short) <= USEFUL * err
+
+
+def test_the_studys_pendulum_draws_are_valid_for_both_models():
+    """bench fidelity's pendulum_case: damping drawn relative to the nutation (an absolute c_d made the full
+    model too stiff for DOP853), horizons within the step cap (and so within the averaged model's attitude
+    budget), swings within the cap; resonant and detuned, weak and strong damping, some A != B."""
+    from bench import fidelity as F
+
+    rng = np.random.default_rng(2)
+    cases = []
+    while len(cases) < 30:
+        try:
+            cases.append(F.pendulum_case(rng))
+        except physics.ScenarioError:  # draw() redraws these too (a triaxial carrier that is not oblate)
+            continue
+    kinds = {(d["kind"], d["damping"]) for _data, d in cases}
+    assert kinds == {("resonant", "weak"), ("resonant", "strong"), ("detuned", "weak"), ("detuned", "strong")}
+    assert any(d["B_over_A"] != 1.0 for _data, d in cases)
+    for data, desc in cases:
+        sc = physics.Scenario.from_dict(data)
+        assert F.full_steps_estimate(sc, desc) <= F.PENDULUM_STEPS * (1 + 1e-9)
+        assert accuracy.pendulum_amplitude(sc) <= F.PENDULUM_SWING_MAX
+        assert F.THETA0_PENDULUM[0] <= sc.initial.theta0 <= F.THETA0_PENDULUM[1]
+    shortest = sorted(cases, key=lambda c: c[0]["run"]["t_end"])[:3]
+    for data, _desc in shortest:  # the whole study's 200 draws all ran in both models (docs/models.md)
+        err, _ = actual_error(physics.Scenario.from_dict(data))
+        assert math.isfinite(err)
