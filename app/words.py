@@ -26,7 +26,16 @@ CONDITION_WORDS = {
     "g / |Omega|": "the pendulum couples weakly to the nutation",
     "ct / lambda_1": "the pendulum's damper is light",
     "|lambda_1 - Omega| / |Omega|": "the pendulum is close to resonance",
-    "theta0^2 |Omega| / g": "the nutation is small",
+    "pendulum swing (linear theory, rad)": "the pendulum's own swing stays moderate",
+    "amplitude detuning / resonance width": "the swing does not detune the pendulum from resonance",
+    "error estimate finite over t_end (a model's mode grows)": "the motion stays bounded over the run",
+    "1/omega_0 (k = 0: no spring frequency)": "the pendulum has a spring",
+    # the moving mass's error estimate: the domain it was measured on (physics/systems/moving_mass/accuracy.py)
+    "m rho^2 / A": "the mass is light next to the body",
+    "1 / |1 - C/A|": "the body is not too close to a sphere",
+    "min(theta0, pi - theta0)": "the start is not too close to a flat spin",
+    "Omega / chi": "the mass's damper is not too light",
+    "chi / Omega": "the mass's damper is not too heavy",
 }
 
 FIDELITY_WORDS = {

@@ -31,7 +31,8 @@ OPTIONS = {
     "soak": ["--minutes", "--clients", "--churn", "--reconnect", "--trim"],
     "load": ["--clients", "--minutes", "--warmup", "--out"],
     "explorer-rates": ["seconds", "--out", "--img", "--chart-only", "--compare"],
-    "fidelity": ["--quick", "--n", "--seed", "--out", "--img", "--workers"],
+    "fidelity": ["--quick", "--n", "--seed", "--out", "--img", "--workers", "--system"],
+    "corrections": ["--out"],
     "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
 }
 

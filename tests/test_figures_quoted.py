@@ -294,15 +294,6 @@ def linear_exponent() -> float:
     return float(physics.derived(set_R())["decay_rate_linear"])
 
 
-def set_R_coupling() -> float:
-    """MODELS B.10's coupling measure mu D^2/A on set R (physics/reference/problems.py set_R)."""
-    from physics.reference.problems import set_R
-    from physics.systems.pendulum import averaged
-
-    p = averaged.spherical_linear(averaged.pendulum_system(set_R()))
-    return p.mu * p.D**2 / p.A
-
-
 # docs/figures.md's data (python -m bench figures), named from docs/ as the page links them
 FIG1 = "img/seed000_fig1.csv"
 FIGS4 = "img/seed004_figs1-4.csv"
@@ -505,10 +496,6 @@ FIGURES = [
     ("docs/sweeps.md", r"The fastest decay, (\d+\.\d+) s, is", SWEEP, lambda: best_decay("decay_time")),
     ("docs/sweeps.md", r"is at k = (\d+) N m/rad", SWEEP, lambda: best_decay("pendulum.k")),
     ("docs/sweeps.md", r"at a finite damping, c_d = (\d+\.\d+) N m s/rad", SWEEP, lambda: best_decay("pendulum.c_d")),
-    # docs/models.md: not a results file either; set R's coupling and its two rates, computed as the page names them
-    ("docs/models.md", r"`mu D\^2/A = (\d\.\d+)`, yet the averaged", "physics/reference/problems.py", set_R_coupling),
-    ("docs/models.md", r"slowest decay rate is (\d+) % below linear theory's exact one",
-     "AveragedCoefficients.slowest_rate", lambda: 100 * (1 - averaged_exponent() / linear_exponent())),
     # README: the averaged model's error on P2 and its bound, as bench/results/targets.csv records them (1e-4 rad)
     ("README.md", r"theta error (\d\.\d)e-4, inside", TARGETS, lambda: 1e4 * targets_theta_error("error")),
     ("README.md", r"inside its O\(eps\^2\) bound (\d\.\d)e-4", TARGETS, lambda: 1e4 * targets_theta_error("bound")),

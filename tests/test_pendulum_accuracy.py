@@ -68,11 +68,12 @@ def test_the_issue_reproduction_is_covered():
     assert d["averaged_error_bound"] >= err and d["averaged_error_bound"] <= USEFUL * err
     assert d["auto_fidelity"] == "full" or d["auto_error_bound"] >= err
     assert d["error_bound_method"] == validity.METHOD and "averaged error estimate" in d["auto_reason"]
-    # the estimate (~7e-3 rad) is within the default accuracy (auto runs averaged, and its bound holds) but not
-    # within a tighter one, where auto falls back to the full model and says why
-    assert d["averaged_error_bound"] <= DEFAULT_ACCURACY and d["auto_fidelity"] == "averaged"
-    tight = physics.derived(sc.with_values(**{"run.accuracy": 1e-3}))
-    assert tight["auto_fidelity"] == "full" and tight["auto_error_bound"] == 0.0 and ">" in tight["auto_reason"]
+    # the estimate (~9e-3 rad) is within 1e-2 rad (auto runs averaged, and its bound holds) but not within the
+    # default 1e-3, where auto falls back to the full model and says why
+    loose = physics.derived(sc.with_values(**{"run.accuracy": 1e-2}))
+    assert loose["auto_fidelity"] == "averaged" and err <= loose["auto_error_bound"] <= 1e-2
+    assert d["auto_fidelity"] == "full" and d["auto_error_bound"] == 0.0 and ">" in d["auto_reason"]
+    assert d["averaged_error_bound"] > DEFAULT_ACCURACY
 
 
 # (scenario, which part of the estimate dominates): each estimate against the full model

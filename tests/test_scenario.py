@@ -100,8 +100,10 @@ def test_averaged_outside_validity_warns_and_names_the_condition():
 def test_auto_reports_choice_and_reason():
     tr = physics.simulate(physics.Scenario.from_dict(_with("mass.Omega", 2.0)))
     assert tr.info["fidelity"] == "full" and "eps" in tr.info["reason"]
-    tr = physics.simulate(physics.Scenario.from_dict(GOOD))
-    assert tr.info["fidelity"] == "closed" and "hold" in tr.info["reason"]
+    good = physics.Scenario.from_dict(GOOD).with_values(**{"run.accuracy": 1e-2})
+    tr = physics.simulate(good)
+    assert tr.info["fidelity"] == "closed" and "estimate" in tr.info["reason"] and "<= accuracy" in tr.info["reason"]
+    assert 0 < tr.info["error_bound"] <= 1e-2  # the estimate it states meets the accuracy asked
 
 
 def test_pendulums_start_at_rest_only():

@@ -40,7 +40,8 @@ def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | N
     """Run ``scenario`` and return its Trajectory.
 
     ``fidelity`` and ``method`` override the scenario's [run] values. ``auto`` picks the cheapest
-    model whose validity conditions hold (MODELS A.5) and says why in ``trajectory.info``.
+    model whose error estimate meets ``run.accuracy`` and says why in ``trajectory.info`` (with
+    ``error_bound``, the estimate the run states, and ``error_bound_method``).
     A model asked for outside its conditions runs anyway, with a ValidityWarning naming them.
     Braking (b > 0) ends the run when |G| reaches zero, at the braking time T.
     ``progress(fraction)``, if given, is called as the compiled integrator finishes each of its
