@@ -63,9 +63,13 @@ def test_the_estimates_are_useful(rows):
         assert np.median([r["estimate"] / r["actual_error"] for r in g]) <= 10, (system, fid)
 
 
-def test_auto_is_within_twice_the_oracle(meta):
+def test_auto_is_within_twice_the_oracle_at_the_default_accuracy(meta):
+    """At physics.DEFAULT_ACCURACY (1e-3 rad); the study reports 1e-2 too, where it is ~4x (docs/models.md)."""
+    import physics
+
+    default = [o for o in meta["summary"]["oracle"] if o["accuracy"] == physics.DEFAULT_ACCURACY]
+    assert len(default) == 1 and default[0]["auto_over_oracle"] <= 2.0, default
     for o in meta["summary"]["oracle"]:
-        assert o["auto_over_oracle"] <= 2.0, o
         assert o["auto_cheaper_within_accuracy"] == o["auto_cheaper"], o  # every cheaper pick met its accuracy
 
 
@@ -102,3 +106,21 @@ def test_the_summary_splits_claims_from_no_claims():
     assert g["finite_estimate"] == 1 and g["no_claim"] == 1
     assert g["worst_actual_over_estimate"] == pytest.approx(0.5)
     assert g["median_estimate_over_actual"] == pytest.approx(2.0)
+
+
+def test_docs_quote_the_study_as_its_files_give_it(meta):
+    """docs/models.md's tables of the study, made from the meta file at the shown precision."""
+    text = (RESULTS.parents[1] / "docs" / "models.md").read_text()
+    groups = meta["summary"]["groups"]
+    for name, label in (("moving_mass/averaged", "moving mass / averaged and closed"),
+                        ("spherical_pendulum/averaged", "spherical pendulum / averaged")):
+        g = groups[name]
+        row = (f"| {label} | {g['n']} | {g['finite_estimate']} | {g['worst_actual_over_estimate']:.2f} | "
+               f"{g['median_estimate_over_actual']:.1f} |")
+        assert row in text, row
+    for o in meta["summary"]["oracle"]:
+        assert f"| {o['auto_cheaper']} of {o['scenarios']}, all within it | {o['oracle_cheaper']} | " \
+               f"{o['auto_over_oracle']:.2f} |" in text, o
+    before = json.loads((RESULTS / "fidelity_before.json").read_text())
+    off = before["old_auto_cheaper_off_by_more_than_1e_3"]
+    assert f"a cheaper model in {before['old_auto_cheaper']} of them, {off} of which" in text
