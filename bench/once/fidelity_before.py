@@ -2,7 +2,8 @@
 and its old averaged_error_bound, against the actual errors the study measured.
 
     git worktree add /tmp/before f492b95
-    PYTHONPATH=/tmp/before python bench/once/fidelity_before.py bench/results/fidelity.csv bench/results/fidelity_before.json
+    PYTHONPATH=/tmp/before python bench/once/fidelity_before.py bench/results/fidelity.csv \
+        bench/results/fidelity_before.json
 
 Not a bench subcommand (bench/once/ holds one-off comparisons): it must import the old physics, not this tree's.
 """
