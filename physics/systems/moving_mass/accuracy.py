@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -142,7 +143,16 @@ def estimate(sc: Scenario, parts: Terms | None = None) -> float:
 
 def averaged_error_bound(sc: Scenario) -> float:
     """Estimated max |theta_full - theta_averaged| (rad) over [0, t_end] for a moving-mass scenario: inf where
-    the estimate makes no claim (no mass, a structural condition or the calibrated domain fails)."""
+    the estimate makes no claim (no mass, a structural condition or the calibrated domain fails). The averaged and
+    closed models share it, and auto, derived and simulate each ask for it: it is computed once per scenario."""
+    try:
+        return _bound(sc)
+    except TypeError:  # a scenario that cannot be hashed (an array in it): computed afresh
+        return _bound.__wrapped__(sc)
+
+
+@lru_cache(maxsize=64)
+def _bound(sc: Scenario) -> float:
     from physics.systems.moving_mass.validity import structural_failures
 
     if sc.mass is None or structural_failures(sc) or any(not c.holds for c in domain(sc)):
