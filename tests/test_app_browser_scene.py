@@ -47,6 +47,9 @@ SATELLITE = "satellite.stl"
 FLAT_SPIN = "Explorer 1's flat spin"
 MIN_CHANGED = 800  # px: hiding a body drawn 1.5 scene units across changes at least this many canvas pixels
 PIXEL_TOL = 24  # per channel: software WebGL's dithering differs by a few levels between frames
+# viser's client lowers the canvas's resolution (to 0.75x) while frames are slow, which on a loaded machine
+# redraws every edge between two pictures of one scene; pictures that are compared are taken at a fixed one
+FIXED_DPR = "?fixedDpr=1"
 
 assert CHROMIUM and FLAGS and sync_api  # imported for the fixtures above
 
@@ -67,7 +70,7 @@ def app():
 def page(browser, app):  # noqa: F811
     pg = browser.new_page(viewport={"width": 1400, "height": 900})
     pg.set_default_timeout(UI_TIMEOUT)
-    pg.goto(f"http://127.0.0.1:{app.port}")
+    pg.goto(f"http://127.0.0.1:{app.port}/{FIXED_DPR}")
     pg.wait_for_selector("canvas")
     wait_until(pg, lambda: read(pg, "fidelity").startswith("full"), "the session's first readouts")
     wait_until(pg, lambda: legend(pg), "the legend", timeout_ms=UI_TIMEOUT)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 from test_app_browser import UI_TIMEOUT, browser, read, wait_until  # noqa: F401 (browser: a fixture)
-from test_app_browser_scene import PIXEL_TOL, app, canvas_png, click, legend, session  # noqa: F401 (app: a fixture)
+from test_app_browser_scene import FIXED_DPR, PIXEL_TOL, app, canvas_png, click, legend, session  # noqa: F401 (app: a fixture)
 
 from app.energy_plot import SPINS, TITLE
 
@@ -37,7 +37,7 @@ PANEL_MARGIN = 40  # px: the panel's padding and border left of its status line
 def page(browser, app):  # noqa: F811
     pg = browser.new_page(viewport={"width": 1400, "height": 900})
     pg.set_default_timeout(UI_TIMEOUT)
-    pg.goto(f"http://127.0.0.1:{app.port}")
+    pg.goto(f"http://127.0.0.1:{app.port}/{FIXED_DPR}")
     pg.wait_for_selector("canvas")
     wait_until(pg, lambda: read(pg, "fidelity").startswith("full"), "the session's first readouts")
     yield pg
