@@ -5,6 +5,7 @@ Mixed into ``app.engine.Engine``: they read and set its run, scenario, values, b
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import physics
 
@@ -108,9 +109,19 @@ class ActionsMixin:
     def _fidelity(self, value) -> None:
         """Another fidelity from now on, with the state carried (K and the attitude kept) unless "restart on
         change" is set or the new model is a closed form, which has no state and starts at t = 0."""
-        sc = self.scenario.replace(run=with_fidelity(self.scenario.run, value))
+        self._run_choice(value, self.accuracy_choice)
+
+    def _accuracy(self, value) -> None:
+        """Another accuracy for auto (rad; None: physics.DEFAULT_ACCURACY): auto may then pick another model,
+        which goes on from the state carried as a fidelity chosen by hand does."""
+        if value is not None and not (isinstance(value, float) and 0.0 < value < math.inf):
+            raise ValueError(f"auto's accuracy {value!r}: expected a positive number of rad or the default")
+        self._run_choice(self.fidelity_choice, value)
+
+    def _run_choice(self, fidelity: str, accuracy: float | None) -> None:
+        sc = self.scenario.replace(run=with_choices(self.scenario.run, fidelity, accuracy))
         kept = self.run.retune(sc, keep_state=not self.restart_on_change)
-        self.fidelity_choice = value
+        self.fidelity_choice, self.accuracy_choice = fidelity, accuracy
         self.error = ""
         if kept:
             self.log_retune(sc)
@@ -208,6 +219,7 @@ ACTIONS = {
     "play": ActionsMixin._play, "pause": ActionsMixin._pause, "toggle": ActionsMixin._toggle,
     "step": ActionsMixin._step, "reset": ActionsMixin._reset, "warp": ActionsMixin._set_warp,
     "preset": ActionsMixin._preset, "system": ActionsMixin._system, "fidelity": ActionsMixin._fidelity,
+    "accuracy": ActionsMixin._accuracy,
     "restart_on_change": ActionsMixin._restart_on_change, "view": ActionsMixin._view,
     "exaggeration": ActionsMixin._exaggeration, "overlay": ActionsMixin._overlay, "plots": ActionsMixin._plots,
     "tune": ActionsMixin._tune, "bob": ActionsMixin._bob, "polhode": ActionsMixin._polhode,
@@ -219,5 +231,6 @@ ACTIONS = {
 
 
 
-def with_fidelity(run: physics.Run, fidelity: str) -> physics.Run:
-    return dataclasses.replace(run, fidelity=fidelity)
+def with_choices(run: physics.Run, fidelity: str, accuracy: float | None) -> physics.Run:
+    """``run`` with the panel's fidelity and auto's accuracy (both kept across slider edits)."""
+    return dataclasses.replace(run, fidelity=fidelity, accuracy=accuracy)

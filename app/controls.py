@@ -237,3 +237,18 @@ def build_sliders(gui, values: dict[str, float]) -> tuple[dict, dict]:
                 sliders[key] = gui.add_slider(p.text, min=lo, max=hi, step=p.step,
                                               initial_value=min(max(values[key], lo), hi), hint=p.hint)
     return sliders, folders
+
+
+# auto's accuracy (rad, on theta): the choices the panel offers; None is physics.DEFAULT_ACCURACY
+ACCURACY_STEPS = (1e-4, None, 1e-2, 1e-1)
+
+
+def accuracy_label(value: float | None) -> str:
+    return f"{physics.DEFAULT_ACCURACY:g} rad (default)" if value is None else f"{value:g} rad"
+
+
+def accuracy_options(current: float | None) -> dict[str, float | None]:
+    """The dropdown's labels and values; a scene's own accuracy (a file's run.accuracy) is offered too."""
+    out = {accuracy_label(v): v for v in ACCURACY_STEPS}
+    out.setdefault(accuracy_label(current), current)
+    return out

@@ -64,6 +64,11 @@ class Panel:
                                            initial_value=_system_label(eng.scenario.system))
             self.fidelity = gui.add_dropdown("Fidelity", list(controls.FIDELITIES), initial_value=eng.fidelity_choice,
                                              hint="full multibody, averaged (quasi-rigid), closed form, or auto")
+            self.accuracy = gui.add_dropdown("auto's accuracy", list(controls.accuracy_options(eng.accuracy_choice)),
+                                             initial_value=controls.accuracy_label(eng.accuracy_choice),
+                                             visible=eng.fidelity_choice == "auto",
+                                             hint="auto runs the cheapest model whose error estimate on theta, "
+                                             "over the run, is at most this (run.accuracy)")
             self.badge_md = gui.add_markdown("")
             self.overlay = gui.add_dropdown("Overlay prediction", ["none", "averaged", "closed"],
                                             initial_value="none",
@@ -138,6 +143,7 @@ class Panel:
 
         on(self.system, "system", lambda v: controls.SYSTEM_LABELS[v])
         on(self.fidelity, "fidelity")
+        on(self.accuracy, "accuracy", lambda v: controls.accuracy_options(eng.accuracy_choice)[v])
         on(self.overlay, "overlay")
         on(self.plots.span, "plots", lambda v: plots.SPANS[v])
         on(self.view, "view")
@@ -220,6 +226,14 @@ class Panel:
         _set(self.overlay, "value", eng.overlay_fidelity)
         _set(self.system, "value", _system_label(system))
         _set(self.fidelity, "value", eng.fidelity_choice)
+        self._sync_accuracy()
+
+    def _sync_accuracy(self) -> None:
+        """auto's accuracy: shown while auto is the fidelity, naming the scene's value."""
+        eng = self.engine
+        _set(self.accuracy, "options", tuple(controls.accuracy_options(eng.accuracy_choice)))
+        _set(self.accuracy, "value", controls.accuracy_label(eng.accuracy_choice))
+        _set(self.accuracy, "visible", eng.fidelity_choice == "auto")
 
     def _sync_preset(self) -> None:
         """The preset dropdown names the scene shown: its preset, "<preset> (edited)" once changed, or the
@@ -257,6 +271,7 @@ class Panel:
             self._sync_preset()  # "(edited)" after a slider change, which does not resync the panel
             self.compare.sync()  # "off" when a new scene could not take the difference
         _set(self.badge_md, "content", eng.badge())  # cached: computed once per scenario, off this thread
+        self._sync_accuracy()  # shown with auto: follows the fidelity dropdown, an upload, an undo
         for key, value in eng.guard.take_revert().items():  # a rejected value's slider shows the last good one
             _set(self.sliders[key], "value", value)
         note = edits.shown_note(eng.guard, fr.status, fr.message)

@@ -73,8 +73,12 @@ def estimate_words(d: dict) -> list[str]:
         value = d.get(f"{fid}_error_bound")
         if not isinstance(value, float):
             continue
-        out.append(f"{fid}: within {value:.2g} rad of the full model over the run" if math.isfinite(value)
-                   else f"{fid}: no error estimate for this scene (outside what it was measured on)")
+        if not math.isfinite(value):
+            out.append(f"{fid}: no error estimate for this scene (outside what it was measured on)")
+        elif value >= math.pi:  # capped: theta is in [0, pi], so the estimate holds and says nothing
+            out.append(f"{fid}: no useful estimate for this scene (it allows any theta)")
+        else:
+            out.append(f"{fid}: within {value:.2g} rad of the full model over the run")
     return out
 
 
@@ -84,7 +88,7 @@ def badge_parts(d: dict, conds: list) -> tuple[str, str]:
     head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
     asked = d.get("auto_accuracy", "not set")
     lines = [f"accuracy asked: {asked:g} rad" if isinstance(asked, float)
-             else f"accuracy asked: {physics.DEFAULT_ACCURACY:g} rad (the default; set run.accuracy)"]
+             else f"accuracy asked: {physics.DEFAULT_ACCURACY:g} rad (the default)"]
     lines += estimate_words(d)
     if conds:
         lines.append(f"the papers' conditions for averaging {'hold' if all(c.holds for c in conds) else 'fail'}:")

@@ -25,6 +25,8 @@ from test_app_browser import (
     wait_until,
 )
 
+import physics
+
 pytestmark = pytest.mark.browser
 SIZES = ((1400, 900), (1024, 768))  # a desktop and a projector
 BUTTONS = ("Play", "Pause", "Step", "Reset")
@@ -35,6 +37,7 @@ STATUS_JS = """() => {
 }"""
 DETUNED = "Large spinning body, pendulum damper detuned (half the nutation frequency)"
 DETUNED_K = 30.94059405940594  # assets/scenarios/pendulum_detuned.toml
+OBLATE = "Oblate body settling"  # fidelity auto; the closed form's estimate, about 0.06 rad, meets 0.1
 FIGURE_WITH_OVERLAY = "Pendulum damper, averaged against full model at eps = 1/4 (overlay averaged; Grobov 1968)"
 
 assert CHROMIUM and FLAGS and sync_api  # imported for the fixtures above
@@ -42,6 +45,10 @@ assert CHROMIUM and FLAGS and sync_api  # imported for the fixtures above
 
 def status(page) -> str:
     return page.evaluate(STATUS_JS)
+
+
+def body_text(page) -> str:
+    return page.evaluate("() => document.body.innerText")
 
 
 def t_of(page) -> float:
@@ -168,3 +175,19 @@ def test_choosing_a_system_keeps_the_body(page):
     assert float(a_box.input_value()) == pytest.approx(1.2)
     assert float(c_box.input_value()) == pytest.approx(c_before)
     assert read(page, "fidelity")  # the run goes on with the new system
+
+
+def test_auto_s_accuracy_is_chosen_on_the_page_and_the_badge_and_readout_follow(page):
+    """issue 15: auto with a looser accuracy runs the closed form where its estimate meets it (the badge
+    states the estimate); the control shows only while auto is the fidelity."""
+    choose(page, "Preset", OBLATE)
+    wait_until(page, lambda: OBLATE in readouts(page), "the oblate preset (fidelity auto)")
+    wait_until(page, lambda: "auto → full" in body_text(page), "auto's badge at the default accuracy")
+    assert f"accuracy asked: {physics.DEFAULT_ACCURACY:g} rad (the default)" in body_text(page)
+    choose(page, "auto's accuracy", "0.1 rad")
+    wait_until(page, lambda: read(page, "fidelity").startswith("closed"), "auto running the closed form")
+    text = body_text(page)
+    assert "auto → closed" in text and "accuracy asked: 0.1 rad" in text
+    assert re.search(r"closed: within 0\.0\d+ rad of the full model over the run", text), text
+    choose(page, "Fidelity", "full")
+    wait_until(page, lambda: "auto's accuracy" not in body_text(page), "the control hidden without auto")
