@@ -109,19 +109,26 @@ class ActionsMixin:
     def _fidelity(self, value) -> None:
         """Another fidelity from now on, with the state carried (K and the attitude kept) unless "restart on
         change" is set or the new model is a closed form, which has no state and starts at t = 0."""
-        self._run_choice(value, self.accuracy_choice)
+        self._run_choice(value, self.accuracy_choice, self.pivot_choice)
 
     def _accuracy(self, value) -> None:
         """Another accuracy for auto (rad; None: physics.DEFAULT_ACCURACY): auto may then pick another model,
         which goes on from the state carried as a fidelity chosen by hand does."""
         if value is not None and not (isinstance(value, float) and 0.0 < value < math.inf):
             raise ValueError(f"auto's accuracy {value!r}: expected a positive number of rad or the default")
-        self._run_choice(self.fidelity_choice, value)
+        self._run_choice(self.fidelity_choice, value, self.pivot_choice)
 
-    def _run_choice(self, fidelity: str, accuracy: float | None) -> None:
-        sc = self.scenario.replace(run=with_choices(self.scenario.run, fidelity, accuracy))
+    def _pivot(self, value) -> None:
+        """What a spherical pendulum's spring and damper act on (physics.PIVOTS: the Cardan angles, or the arm's
+        direction, which goes on through the gimbal pole); the swing goes on from the state carried."""
+        if value not in physics.PIVOTS:
+            raise ValueError(f"pivot {value!r}: expected one of {', '.join(physics.PIVOTS)}")
+        self._run_choice(self.fidelity_choice, self.accuracy_choice, value)
+
+    def _run_choice(self, fidelity: str, accuracy: float | None, pivot: str) -> None:
+        sc = with_choices(self.scenario, fidelity, accuracy, pivot)
         kept = self.run.retune(sc, keep_state=not self.restart_on_change)
-        self.fidelity_choice, self.accuracy_choice = fidelity, accuracy
+        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = fidelity, accuracy, pivot
         self.error = ""
         if kept:
             self.log_retune(sc)
@@ -219,7 +226,7 @@ ACTIONS = {
     "play": ActionsMixin._play, "pause": ActionsMixin._pause, "toggle": ActionsMixin._toggle,
     "step": ActionsMixin._step, "reset": ActionsMixin._reset, "warp": ActionsMixin._set_warp,
     "preset": ActionsMixin._preset, "system": ActionsMixin._system, "fidelity": ActionsMixin._fidelity,
-    "accuracy": ActionsMixin._accuracy,
+    "accuracy": ActionsMixin._accuracy, "pivot": ActionsMixin._pivot,
     "restart_on_change": ActionsMixin._restart_on_change, "view": ActionsMixin._view,
     "exaggeration": ActionsMixin._exaggeration, "overlay": ActionsMixin._overlay, "plots": ActionsMixin._plots,
     "tune": ActionsMixin._tune, "bob": ActionsMixin._bob, "polhode": ActionsMixin._polhode,
@@ -231,6 +238,14 @@ ACTIONS = {
 
 
 
-def with_choices(run: physics.Run, fidelity: str, accuracy: float | None) -> physics.Run:
-    """``run`` with the panel's fidelity and auto's accuracy (both kept across slider edits)."""
-    return dataclasses.replace(run, fidelity=fidelity, accuracy=accuracy)
+def with_choices(sc: physics.Scenario, fidelity: str, accuracy: float | None, pivot: str) -> physics.Scenario:
+    """``sc`` with the panel's choices, kept across slider edits: the fidelity, auto's accuracy and a spherical
+    pendulum's pivot (a scene without one keeps the choice for a later one)."""
+    sc = sc.replace(run=dataclasses.replace(sc.run, fidelity=fidelity, accuracy=accuracy))
+    if sc.pendulum is not None and sc.pendulum.pivot != pivot:
+        sc = sc.replace(pendulum=dataclasses.replace(sc.pendulum, pivot=pivot))
+    return sc
+
+
+def pivot_of(sc: physics.Scenario) -> str:
+    return sc.pendulum.pivot if sc.pendulum is not None else physics.PIVOTS[0]

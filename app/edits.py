@@ -248,6 +248,7 @@ class Snapshot:
     bob: int | None
     fidelity: str
     accuracy: float | None  # auto's
+    pivot: str  # a spherical pendulum's
     run_state: dict
     epoch: int  # the buffers' start it belongs to: a change that restarted the run started new ones
     n_edits: int  # the engine's list of edits the run went through, up to this change
@@ -258,7 +259,7 @@ class Snapshot:
     def of(cls, engine, key: str, epoch: int) -> Snapshot:
         state = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in vars(engine.run).items()}
         return cls(key, engine.base, dict(engine.changes), dict(engine.values), engine.bob, engine.fidelity_choice,
-                   engine.accuracy_choice, state, epoch, len(getattr(engine, "edits", ())),
+                   engine.accuracy_choice, engine.pivot_choice, state, epoch, len(getattr(engine, "edits", ())),
                    getattr(engine, "edit_count", None), getattr(engine, "retunes", None))
 
     def restore(self, engine) -> float:
@@ -270,6 +271,7 @@ class Snapshot:
         vars(run).update({k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self.run_state.items()})
         engine.base, engine.changes, engine.values = self.base, dict(self.changes), dict(self.values)
         engine.bob, engine.fidelity_choice, engine.accuracy_choice = self.bob, self.fidelity, self.accuracy
+        engine.pivot_choice = self.pivot
         if isinstance(getattr(engine, "edits", None), list):
             del engine.edits[self.n_edits:]
         if hasattr(engine, "retunes"):

@@ -19,7 +19,7 @@ import numpy as np
 import physics
 
 from . import controls, edits, parts, presets
-from .actions import ActionsMixin, with_choices
+from .actions import ActionsMixin, pivot_of, with_choices
 from .buffers import (
     EDITS_LISTED,
     HISTORY_ROWS,
@@ -123,7 +123,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.values = controls.values_of(sc)
         self.run = run
         self.clock.warp = DEFAULT_WARP if name == presets.DEFAULT else presets.suggested_warp(sc)
-        self.fidelity_choice, self.accuracy_choice = sc.run.fidelity, sc.run.accuracy
+        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = sc.run.fidelity, sc.run.accuracy, pivot_of(sc)
         self._restarted()
         self.exaggeration = self.default_exaggeration()  # the panel's slider follows (sliders_changed)
 
@@ -185,10 +185,10 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
 
     @property
     def edited(self) -> bool:
-        """Whether the scene differs from the preset loaded (a slider, tuning, the fidelity, auto's accuracy): the
-        panel then names the preset "(edited)", so choosing the preset again is a change that reloads it."""
+        """Whether the scene differs from the preset loaded (a slider, tuning, the fidelity, auto's accuracy, the
+        pivot): the panel then names the preset "(edited)", so choosing the preset again is a change that reloads it."""
         return (bool(self.changes) or self.fidelity_choice != self.base.run.fidelity
-                or self.accuracy_choice != self.base.run.accuracy)
+                or self.accuracy_choice != self.base.run.accuracy or self.pivot_choice != pivot_of(self.base))
 
     # ---- applying changes (loop thread) -----------------------------------------------------
     def _apply_pending(self) -> None:
@@ -232,7 +232,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
     def _apply_values(self, pending: dict) -> None:
         changes = controls.merge_changes(self.changes, pending)
         sc = controls.apply_changes(self.base, changes)  # ScenarioError leaves everything as it was
-        sc = sc.replace(run=with_choices(sc.run, self.fidelity_choice, self.accuracy_choice))
+        sc = with_choices(sc, self.fidelity_choice, self.accuracy_choice, self.pivot_choice)
         restart = self.restart_on_change or controls.restarts(pending)
         kept = self.run.retune(sc, keep_state=not restart)
         self.changes = changes
@@ -265,7 +265,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
     def replay_retune(self, sc: physics.Scenario) -> None:
         """Go on under ``sc`` from now, as a change made in a tab did (app.record replays a tab's run)."""
         kept = self.run.retune(sc, keep_state=True)
-        self.fidelity_choice, self.accuracy_choice = sc.run.fidelity, sc.run.accuracy
+        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = sc.run.fidelity, sc.run.accuracy, pivot_of(sc)
         self.shape = self._shape(sc)
         self.scene_changed = self.overlay_dirty = True
         if not kept:

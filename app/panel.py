@@ -83,6 +83,12 @@ class Panel:
         with self.folders["Pendulum damper"]:
             self.bob = gui.add_dropdown("bob", ["all", "1", "2", "3"], initial_value="all",
                                         hint="plane pendulums: which bob the sliders above edit")
+            self.pivot = gui.add_dropdown("pivot", list(physics.PIVOTS), initial_value=eng.pivot_choice,
+                                          visible=eng.scenario.pendulum is not None,
+                                          hint="what the spring and damper act on: cardan, the two gimbal angles "
+                                          "(the paper's model; a swing through the gimbal pole stops with a spring); "
+                                          "isotropic, the arm's direction (the same for small swings, and it goes on "
+                                          "through the pole)")
         with gui.add_folder("View"):
             self.view = gui.add_dropdown("Frame", ["inertial", "body"], initial_value="inertial",
                                          hint="inertial: K fixed and pointing up; body: the body stays still")
@@ -152,6 +158,7 @@ class Panel:
         on(self.sphere, "sphere")
         on(self.body_mesh, "mesh")
         on(self.bob, "bob", lambda v: None if v == "all" else int(v) - 1)
+        on(self.pivot, "pivot")
         for key, slider in self.sliders.items():
             self._bind_slider(key, slider)
 
@@ -226,14 +233,16 @@ class Panel:
         _set(self.overlay, "value", eng.overlay_fidelity)
         _set(self.system, "value", _system_label(system))
         _set(self.fidelity, "value", eng.fidelity_choice)
-        self._sync_accuracy()
+        self._sync_choices()
 
-    def _sync_accuracy(self) -> None:
-        """auto's accuracy: shown while auto is the fidelity, naming the scene's value."""
+    def _sync_choices(self) -> None:
+        """auto's accuracy, shown while auto is the fidelity, and the spherical pendulum's pivot: the scene's."""
         eng = self.engine
         _set(self.accuracy, "options", tuple(controls.accuracy_options(eng.accuracy_choice)))
         _set(self.accuracy, "value", controls.accuracy_label(eng.accuracy_choice))
         _set(self.accuracy, "visible", eng.fidelity_choice == "auto")
+        _set(self.pivot, "value", eng.pivot_choice)
+        _set(self.pivot, "visible", eng.scenario.pendulum is not None)
 
     def _sync_preset(self) -> None:
         """The preset dropdown names the scene shown: its preset, "<preset> (edited)" once changed, or the
@@ -271,7 +280,7 @@ class Panel:
             self._sync_preset()  # "(edited)" after a slider change, which does not resync the panel
             self.compare.sync()  # "off" when a new scene could not take the difference
         _set(self.badge_md, "content", eng.badge())  # cached: computed once per scenario, off this thread
-        self._sync_accuracy()  # shown with auto: follows the fidelity dropdown, an upload, an undo
+        self._sync_choices()  # follow the dropdowns, an upload, an undo, a system change
         for key, value in eng.guard.take_revert().items():  # a rejected value's slider shows the last good one
             _set(self.sliders[key], "value", value)
         note = edits.shown_note(eng.guard, fr.status, fr.message)

@@ -120,8 +120,10 @@ def braking_words(t: float, remaining: float) -> dict[str, str]:
 
 def status_words(message: str) -> str:
     """The run's status message in the panel's words: physics says the braking brought |G| (J* w) to zero,
-    a name the panel has nowhere else; to a class, the spin stopped."""
-    return message.replace("braking brought |G| to zero", "braking stopped the spin")
+    a name the panel has nowhere else; to a class, the spin stopped. Where physics names a scenario key the
+    panel has a control for (pendulum.pivot), the control is named."""
+    return (message.replace("braking brought |G| to zero", "braking stopped the spin")
+            .replace('set pendulum.pivot = "isotropic"', 'choose pivot "isotropic" (folder Pendulum damper)'))
 
 
 def euler_angles(wxyz) -> tuple[float, float, float]:

@@ -49,13 +49,14 @@ from physics.systems.moving_mass.coefficients import Coefficients, coefficients
 from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium
 from physics.systems.moving_mass.validity import averaged_conditions
 from physics.systems.pendulum.geometry import resolved_stiffness
+from physics.systems.pendulum.params import PIVOTS
 
 __all__ = [
     "Body", "BuildStatus", "CannotCarry", "Carried", "build_kernels", "kernel_status",
     "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "LiveRun", "Mass", "Medium", "Model",
     "METRICS", "Metric", "REGISTRY", "Run", "Scenario", "ScenarioError", "SweepTable", "Trajectory", "ValidityWarning",
     "averaged_conditions", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "sweep",
-    "DEFAULT_ACCURACY", "carry_state", "choose_fidelity", "closed", "resolved_stiffness", "coefficients",
+    "DEFAULT_ACCURACY", "PIVOTS", "carry_state", "choose_fidelity", "closed", "resolved_stiffness", "coefficients",
     "default_scenario", "derived",
     "get_model", "get_system", "initial_G", "load_builtin", "Param", "register_model", "register_system", "System",
     "SYSTEMS", "Table", "unregister_system",
