@@ -5,6 +5,7 @@ the Cardan one stops with a fault that names the key; at small amplitude the two
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import subprocess
 import sys
@@ -258,3 +259,70 @@ def test_the_app_loads_an_uploaded_isotropic_scene_and_runs_it_past_the_pole():
             break
     assert not eng.error and eng.scenario.pendulum.pivot == "isotropic" and eng.scenario.pendulum.c_d == 0.002
     assert fr.status == RUNNING and not fr.message and fr.t >= T_END
+
+
+# ---- a spring switched on while the bob is in chart 1 ----------------------------------------------------------
+
+def _arm(y) -> np.ndarray:
+    """The arm direction e of a state, from its chart's angles (the formulas of physics/compiled/pendulum.py)."""
+    a, b = y[3], y[4]
+    if y[kernel.CHART] < 0.5:
+        return np.array([math.sin(b), -math.sin(a) * math.cos(b), math.cos(a) * math.cos(b)])
+    return np.array([math.sin(a) * math.cos(b), -math.sin(b), math.cos(a) * math.cos(b)])
+
+
+def _in_chart_0(y) -> np.ndarray:
+    """``y`` with the bob's angles and rates written in chart 0 (the gimbal angles), from e and e' (central
+    differences of e along the state's own angles), independently of the kernel's ``to_chart``."""
+    z = y.copy()
+    e = _arm(y)
+    d = 1e-6
+    de = sum(((_arm(_shift(y, i, d)) - _arm(_shift(y, i, -d))) / (2 * d)) * y[i + 2] for i in (3, 4))
+    b, a = math.asin(e[0]), math.atan2(-e[1], e[2])
+    ea = np.array([0.0, -math.cos(a) * math.cos(b), -math.sin(a) * math.cos(b)])
+    eb = np.array([math.cos(b), math.sin(a) * math.sin(b), -math.cos(a) * math.sin(b)])
+    z[3], z[4] = a, b
+    z[5], z[6] = de @ ea / (math.cos(b) ** 2), de @ eb
+    z[kernel.CHART] = 0.0
+    return z
+
+
+def _shift(y, i, d):
+    z = y.copy()
+    z[i] += d
+    return z
+
+
+def test_a_spring_switched_on_in_chart_1_acts_on_the_gimbal_angles():
+    """The app's k slider raised from 0 while the bob is past 60 deg (chart 1): the Cardan spring must act on the
+    gimbal angles, so the run goes on as one from the same state written in them. Before the fix the kernel kept
+    chart 1's angles under the spring and the arm direction 0.5 s on was 0.20 off."""
+    free = pole("cardan").replace(pendulum=dataclasses.replace(pole("cardan").pendulum, k=0.0))
+    runs = [LiveRun(free), LiveRun(free)]
+    for run in runs:
+        while run.y[kernel.CHART] < 0.5:
+            run.advance(0.01)
+    carried, written = runs
+    assert abs(_arm(carried.y)[0]) > math.sin(math.pi / 3)  # past 60 deg: the state is in chart 1
+    written.y = _in_chart_0(written.y)
+    assert np.max(np.abs(_arm(written.y) - _arm(carried.y))) < 1e-12
+    for run in runs:
+        run.retune(pole("cardan"), keep_state=True)
+        run.advance(0.5)
+    assert carried.status == RUNNING and carried.y[kernel.CHART] == 0.0
+    assert np.max(np.abs(_arm(carried.y) - _arm(written.y))) < 1e-6  # the two rates' 1e-10 differences, grown
+    assert np.allclose(carried.y[:3], written.y[:3], rtol=0, atol=1e-6)
+
+
+def test_a_spring_switched_on_at_the_gimbal_pole_stops_at_once_naming_the_key():
+    free = pole("cardan").replace(pendulum=dataclasses.replace(pole("cardan").pendulum, k=0.0))
+    run = LiveRun(free)
+    while run.y[kernel.CHART] < 0.5:
+        run.advance(0.01)
+    y = run.y.copy()
+    y[3], y[4] = math.pi / 2, 0.0  # chart 1: e = e1, chart 0's pole
+    run.y = y
+    run.retune(pole("cardan"), keep_state=True)
+    t = run.t
+    run.advance(0.1)
+    assert run.status == FAULT and 'pendulum.pivot = "isotropic"' in run.message and run.t == t

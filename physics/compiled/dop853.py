@@ -57,8 +57,9 @@ def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps, h0, G0):
     n = y0.size
     n_out = t_out.size
     Y = np.empty((n_out, n))
-    Y[0] = y0
     y = y0.copy()
+    switch_chart(model, y, p)  # a carried state in the coordinates this model's forces act on (pendulum.py)
+    Y[0] = y
     t = t_out[0]
     K = np.empty((N_STAGES + 1, n))
     ys = np.empty(n)
@@ -67,7 +68,7 @@ def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps, h0, G0):
     rhs(model, t, y, p, f)
     nfev = 1
     nsteps = 0
-    status = 0
+    status = 5 if fault(model, y, p) > 0 else 0  # a carried state where this model is undefined: no step
 
     # initial step from the size of y and f (Hairer's first guess, simplified)
     d0 = 0.0
@@ -86,7 +87,7 @@ def integrate(model, y0, p, t_out, rtol, atol, b, lam, max_steps, h0, G0):
 
     i_out = 1
     nonfinite = 0
-    while i_out < n_out:
+    while i_out < n_out and status == 0:
         if nsteps >= max_steps:
             status = 4
             break

@@ -86,16 +86,17 @@ def integrate(model, y0, p, t_out, dt, A, Bw, C, b, lam, G0):
     n_out = t_out.size
     s = Bw.size
     Y = np.empty((n_out, n))
-    Y[0] = y0
     y = y0.copy()
+    switch_chart(model, y, p)  # a carried state in the coordinates this model's forces act on (pendulum.py)
+    Y[0] = y
     t = t_out[0]
     K = np.empty((s, n))
     ys = np.empty(n)
     nfev = 0
     nsteps = 0
-    status = 0
+    status = 5 if fault(model, y, p) > 0 else 0  # a carried state where this model is undefined: no step
     i_out = 1
-    while i_out < n_out:
+    while i_out < n_out and status == 0:
         t_target = t_out[i_out]
         gap = t_target - t
         m = max(1, int(math.ceil(gap / dt - 1e-9)))

@@ -23,7 +23,9 @@ Geometries (``kind`` = p[0]):
   at e = +-e2 instead, with the damper on chart 1's angle rates (both charts' dampers dissipate
   c (|e'|^2 + sin^2 b alpha'^2) >= 0, so E + W stays conserved); the chart in use is the last state
   value. A spring acts on the Cardan angles themselves, which the bob's position does not determine
-  at the pole: with k > 0 the run still stops there (``fault``).
+  at the pole: with k > 0 the run still stops there (``fault``), and a state in chart 1 (carried from a
+  run with k = 0) is written in chart 0 before the first step (``switch_chart``, which the integrators
+  call at the start too), so the spring acts on the gimbal angles wherever the bob is.
   The pivot model (``pendulum.pivot``, p[o+PIVOT], o = HEADER): CARDAN (0) is the above, the paper's (MODELS
   B.1). ISOTROPIC (1) puts the spring and the damper on the arm's direction e (body frame) instead of on the
   angles: V = k (1 - e.e3), R = c |e'|^2/2. Both charts have e_z = cos a cos b, |de/da| = cos b, |de/db| = 1
@@ -386,9 +388,9 @@ def rhs(t, y, p, out):
 def fault(y, p):
     """1 at the spherical pendulum's gimbal singularity (|cos beta| < GIMBAL_LIMIT) with a spring on the
     Cardan angles (k != 0, the Cardan pivot; without one, or with the isotropic pivot, the chart switches
-    before), else 0."""
+    before), or in chart 1 with such a spring (``switch_chart`` leaves it there only at chart 0's pole), else 0."""
     if (p[0] == SPHERICAL and p[HEADER + 2] != 0.0 and p[HEADER + PIVOT] == CARDAN
-            and abs(math.cos(y[4])) < GIMBAL_LIMIT):
+            and (abs(math.cos(y[4])) < GIMBAL_LIMIT or (y.size > CHART and y[CHART] >= 0.5))):
         return 1
     return 0
 
@@ -410,11 +412,18 @@ def switch_chart(y, p):
     """Re-express the spherical pendulum's bob in the other chart when it nears the pole of the one in use
     (k = 0, or the isotropic pivot, whose spring and damper do not depend on the chart): the same arm
     direction e and rate e' (so the same position, velocity, H and E), new angles and rates, in place.
-    Returns 1 when it switched, else 0."""
-    if p[0] != SPHERICAL or y.size <= CHART or (p[HEADER + 2] != 0.0 and not _isotropic(p)):
+    A spring on the Cardan angles acts on chart 0's angles, so a state in chart 1 (carried from a run without
+    one: the app's k raised while the bob is past 60 deg) goes back to chart 0 at once, wherever chart 0 is
+    defined; at its pole it stays, and ``fault`` stops the run. Returns 1 when it switched, else 0."""
+    if p[0] != SPHERICAL or y.size <= CHART:
         return 0
     chart = 0 if y[CHART] < 0.5 else 1
     ex = abs(math.sin(y[4]) if chart == 0 else math.sin(y[3]) * math.cos(y[4]))  # |e_x|
+    if p[HEADER + 2] != 0.0 and not _isotropic(p):
+        if chart == 1 and math.sqrt(max(0.0, 1.0 - ex * ex)) >= GIMBAL_LIMIT:  # chart 0's |cos beta|
+            to_chart(y, 0)
+            return 1
+        return 0
     if chart == 0 and ex > CHART_OUT:
         to_chart(y, 1)
         return 1
