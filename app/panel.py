@@ -283,7 +283,7 @@ class Panel:
         self._sync_choices()  # follow the dropdowns, an upload, an undo, a system change
         for key, value in eng.guard.take_revert().items():  # a rejected value's slider shows the last good one
             _set(self.sliders[key], "value", value)
-        note = edits.shown_note(eng.guard, fr.status, fr.message)
+        note = edits.shown_note(eng.guard, fr.status, words.status_words(fr.message or ""))
         self.notes.show(note, can_undo=bool(eng.guard.undo))
         beside = note is not None and note.reason == eng.error  # shown under its slider: not again up here
         _set(self.error_md, "content", f"<span style='color:#c00'>**Rejected:** {eng.error}</span>"

@@ -121,9 +121,11 @@ def braking_words(t: float, remaining: float) -> dict[str, str]:
 def status_words(message: str) -> str:
     """The run's status message in the panel's words: physics says the braking brought |G| (J* w) to zero,
     a name the panel has nowhere else; to a class, the spin stopped. Where physics names a scenario key the
-    panel has a control for (pendulum.pivot), the control is named."""
-    return (message.replace("braking brought |G| to zero", "braking stopped the spin")
+    panel has a control for (pendulum.pivot), the control is named; a time given to all 17 digits (an
+    IntegrationFault's, exact for a script) is shown to 6."""
+    said = (message.replace("braking brought |G| to zero", "braking stopped the spin")
             .replace('set pendulum.pivot = "isotropic"', 'choose pivot "isotropic" (folder Pendulum damper)'))
+    return re.sub(r"at t = ([-+]?\d+\.\d{7,}(?:e[-+]?\d+)?)(?! s)", lambda m: f"at t = {float(m.group(1)):.6g} s", said)
 
 
 def euler_angles(wxyz) -> tuple[float, float, float]:

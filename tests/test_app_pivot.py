@@ -7,6 +7,7 @@ refused by name with the choice kept.
 
 from __future__ import annotations
 
+import re
 from types import SimpleNamespace
 
 import pytest
@@ -15,7 +16,6 @@ from test_app_words import DT, _RecordingGui
 from test_pendulum_pivot import pole
 
 import physics
-from app import words
 from app.engine import Engine
 from app.panel import Panel
 
@@ -41,10 +41,15 @@ def engine():
 
 
 def test_the_cardan_stop_names_the_panels_control(engine):
-    fr = _play(engine, 2 * POLE_T)
+    gui = _RecordingGui()
+    panel = Panel(SimpleNamespace(gui=gui, scene=None), engine)
+    fr = _play(engine, 2 * POLE_T, panel)
     assert fr.status == "fault" and POLE_T < engine.run.t < 2 * POLE_T
-    shown = words.status_words(fr.message)
-    assert 'choose pivot "isotropic" (folder Pendulum damper)' in shown and "pendulum.pivot" not in shown
+    shown = [h.content for h in gui.handles if isinstance(h.content, str) and "gimbal" in h.content]
+    assert len(shown) >= 2, shown  # the status line and the note with its way out
+    for text in shown:
+        assert 'choose pivot "isotropic" (folder Pendulum damper)' in text and "pendulum.pivot" not in text
+        assert re.search(r"at t = 1\.8\d{0,4} s", text), text  # to 6 digits, not the fault's 17
 
 
 def test_choosing_isotropic_runs_through_the_pole_and_keeps_k_during_the_swing(engine):

@@ -38,6 +38,7 @@ class _Handle:
         self.content = kw.get("content", args[0] if kind == "markdown" and args else "")
         self.options = tuple(args[1]) if kind in ("dropdown", "button_group") and len(args) > 1 else ()
         self.value = kw.get("initial_value")
+        self.order = kw.get("order", 0.0)  # where viser places it: the notes beside a slider are placed after it
         self.callbacks = []
 
     def __getattr__(self, name):  # visible, disabled, min, max...: unset until the panel sets them
