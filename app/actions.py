@@ -13,6 +13,7 @@ from . import controls, edits, parts, presets
 from .buffers import RECENT, VIEWS, WHOLE_RUN
 from .clock import FRAME_HZ
 from .compare import set_compare, undo_compare
+from .workers import OVERLAYS
 
 
 class ActionsMixin:
@@ -156,6 +157,8 @@ class ActionsMixin:
         self.plots_changed = True
 
     def _overlay(self, value) -> None:
+        if not isinstance(value, str) or value not in OVERLAYS:
+            raise ValueError(f"overlay {str(value)[:40]!r}: expected one of {', '.join(OVERLAYS)}")
         self.overlay_fidelity = value
         self.overlay_dirty = True
         self.plots_changed = True

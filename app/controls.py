@@ -219,6 +219,8 @@ def fmt(x: float, digits: int = 4) -> str:
         return "n/a"
     if isinstance(x, float) and math.isinf(x):
         return "inf"
+    if isinstance(x, bool) or not isinstance(x, (int, float)):
+        return repr(x)[:40]  # what a raw client sent instead of a number, said as it came
     return f"{x:.{digits}g}"
 
 

@@ -59,6 +59,8 @@ def _name(key: str) -> str:
 
 
 def _with_unit(key: str, value: float) -> str:
+    if not _number(value):  # a raw client's string, list or None: as it came, with no unit
+        return repr(value)[:40]
     unit = controls.BY_KEY[key].unit
     return f"{controls.fmt(value)} {unit}".strip()
 
@@ -67,9 +69,11 @@ def rejected_text(key: str, value: float, reason: str, kept: float | None) -> st
     """``reason``: physics's ScenarioError text ("mass.m = -1.0: must be > 0"). Its own key and value are
     dropped when they repeat the slider's; a reason about another parameter is kept whole."""
     head = f"{key} = "
-    if reason.startswith(head) and ": " in reason:
+    if reason.startswith(f"{head}{value!r}: "):  # the value as physics shows it, whatever its ": " inside
+        reason = reason[len(f"{head}{value!r}: "):]
+    elif reason.startswith(head) and ": " in reason:
         reason = reason.partition(": ")[2]
-    if key == "mass.m" and value < 0:
+    if key == "mass.m" and _number(value) and value < 0:
         reason += " (0 removes the mass)"
     stays = "" if kept is None else f" {_name(key)} stays {_with_unit(key, kept)}."
     return f"Rejected: {_name(key)} = {_with_unit(key, value)}: {reason.rstrip('.')}.{stays}"

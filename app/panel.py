@@ -21,6 +21,7 @@ from .export import ReplayButton
 from .mesh import INERTIA_SHAPE, asset_names
 from .playbar import Playbar
 from .share_panel import SharePanel
+from .workers import OVERLAYS
 
 EDITED = " (edited)"  # the preset dropdown's name for a preset changed since it was loaded
 
@@ -70,7 +71,7 @@ class Panel:
                                              hint="auto runs the cheapest model whose error estimate on theta, "
                                              "over the run, is at most this (run.accuracy)")
             self.badge_md = gui.add_markdown("")
-            self.overlay = gui.add_dropdown("Overlay prediction", ["none", "averaged", "closed"],
+            self.overlay = gui.add_dropdown("Overlay prediction", list(OVERLAYS),
                                             initial_value="none",
                                             hint="a cheaper fidelity's theta(t), computed with physics.simulate")
             self.tune_btn = gui.add_button("Tune to resonance", hint="spherical pendulum: k = resonant (MODELS B.5)")

@@ -57,6 +57,7 @@ class Shape:
 
 SYMMETRY_TOL = 1e-9  # relative |A - B| below which the body is axisymmetric
 THIN = 0.04  # a limiting flat plate or thin rod is drawn this fraction of its size thick
+SIZE_RANGE = (1e-150, 1e150)  # m: a body's drawn size is kept within (its pixels are the same at any size)
 
 
 def body_shape(A: float, B: float, C: float, M: float) -> Shape:
@@ -65,16 +66,21 @@ def body_shape(A: float, B: float, C: float, M: float) -> Shape:
     Axisymmetric (A = B): a cylinder along e3 with C = M R^2/2, A = M(3R^2 + h^2)/12, so
     R = sqrt(2C/M), h = sqrt(12A/M - 6C/M): a disk when C > A (oblate), a rod when C < A (prolate).
     Otherwise a box with A = M(b^2 + c^2)/12 and so on: a = sqrt(6(B + C - A)/M), ...
+    Sizes scale as sqrt(I/M), computed without forming I/M (A = 1 with M = 5e-324 overflows it) and kept within
+    SIZE_RANGE m, so that a drawing, which shows every body at one size, always has a finite scale.
     """
+    r = max(A, B, C)
+    scale = min(max(math.sqrt(r) / math.sqrt(M), SIZE_RANGE[0]), SIZE_RANGE[1])
+    A, B, C = A / r, B / r, C / r  # the shape of a body with M = 1 and moments of order 1, scaled below
     if abs(A - B) <= SYMMETRY_TOL * A:
-        R = math.sqrt(2 * C / M)
-        h = math.sqrt(max(12 * A / M - 6 * C / M, 0.0))
+        R = math.sqrt(2 * C)
+        h = math.sqrt(max(12 * A - 6 * C, 0.0))
         h = max(h, THIN * 2 * R)
         kind = "disk" if C > A * (1 + SYMMETRY_TOL) else "rod" if C < A * (1 - SYMMETRY_TOL) else "cylinder"
-        return Shape(kind, radius=R, height=h)
-    sides = np.sqrt(np.maximum(6.0 / M * np.array([B + C - A, A + C - B, A + B - C]), 0.0))
+        return Shape(kind, radius=R * scale, height=h * scale)
+    sides = np.sqrt(np.maximum(6.0 * np.array([B + C - A, A + C - B, A + B - C]), 0.0))
     sides = np.maximum(sides, THIN * sides.max())
-    return Shape("box", dims=tuple(float(s) for s in sides))
+    return Shape("box", dims=tuple(float(s * scale) for s in sides))
 
 
 def box_mesh(dims) -> tuple[np.ndarray, np.ndarray]:

@@ -20,6 +20,7 @@ import physics
 
 from . import words
 
+OVERLAYS = ("none", "averaged", "closed")  # the overlay dropdown's choices: a cheaper prediction, or none
 OVERLAY_SAMPLES = 2000  # from t = 0 to OVERLAY_WINDOWS times now: smooth models, interpolated linearly
 OVERLAY_WINDOWS = 2.0  # a prediction reaches this many times as far as the run has come
 
@@ -97,6 +98,10 @@ class OverlayMixin:
             except (physics.ScenarioError, physics.IntegrationFault, ArithmeticError, ValueError) as exc:
                 if gen == self._overlay_gen:
                     self.error = f"overlay ({fid}): {exc}"
+                return
+            except Exception as exc:  # noqa: BLE001 - a worker thread must say what failed, never print a traceback
+                if gen == self._overlay_gen:
+                    self.error = f"overlay ({fid}) failed: {type(exc).__name__}: {str(exc)[:200]}"
                 return
             if gen == self._overlay_gen:
                 self.overlay = result

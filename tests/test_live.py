@@ -172,3 +172,51 @@ def test_midpoint_refuses_what_it_does_not_cover_live():
                                                    "control.law": "K"})
     with pytest.raises(physics.ScenarioError, match="midpoint"):
         physics.LiveRun(sc)
+
+
+def test_a_reset_that_cannot_start_is_refused_with_the_run_as_it_was():
+    """A value carried into a running state (mass.lam_q = 1e200: the state is kept, then the run faults) can
+    make t = 0 non-finite; Reset must then say so by name and leave the run as it was, not half started at
+    t = 0 with |K| = inf (found by tests/test_fuzz_engine.py's storm)."""
+    sc = physics.default_scenario()
+    run = LiveRun(sc)
+    run.advance(1.0)
+    assert run.retune(sc.with_values(**{"mass.lam_q": 1e200}), keep_state=True)
+    run.advance(0.05)
+    before = dict(vars(run))
+    with pytest.raises(physics.ScenarioError, match=r"mass\.lam_q = 1e\+200.*non-finite"):
+        run.reset()
+    assert vars(run).keys() == before.keys() and all(vars(run)[k] is v for k, v in before.items())
+    assert run.t == 1.0 and np.isfinite(run.last.K).all()
+
+
+def test_a_closed_form_that_starts_non_finite_is_refused_by_name():
+    """G0 = 1e-300 on the spherical pendulum's averaged solution gave K's direction as NaN at t = 0, shown as a
+    running value (tests/test_fuzz_engine.py, seed 21); a closed form's start is now checked as a state is."""
+    sc = physics.Scenario.from_dict({
+        "body": {"A": 1.0, "C": 1.4, "M": 10.0},
+        "pendulum": {"m": 0.05, "l": 0.3, "h": 0.5, "k": 3.0, "c_d": 0.01},
+        "initial": {"G0": 1e-300, "theta0": 0.785}, "run": {"fidelity": "averaged", "t_end": 60.0}})
+    with pytest.raises(physics.ScenarioError, match=r"initial\.G0 = 1e-300: makes the closed form's .* non-finite"):
+        LiveRun(sc)
+    assert np.isfinite(LiveRun(sc.with_values(**{"initial.G0": 1e-3})).momentum()).all()  # a small G0 is fine
+
+
+def test_rows_that_turn_non_finite_stop_the_run_and_the_last_good_row_stays():
+    """A finite state can still give a non-finite row (E = inf); the run stops there as a fault and keeps the
+    last finite row, never showing NaN or inf as a running value."""
+    run = LiveRun(_default())
+    run.advance(0.2)
+    good = run.last
+    observe = run._observe
+
+    def overflowing(t, Y):  # the model's own rows, with E overflowing from the second one on
+        tr = observe(t, Y)
+        tr.E[1:] = np.inf
+        return tr
+
+    run._observe = overflowing
+    tr = run.advance(0.1, samples=4)
+    assert run.status == FAULT and "non-finite" in run.message
+    assert len(tr) == 1 and np.isfinite(run.last.E).all() and run.last.t[-1] > good.t[-1]
+    assert run.advance(0.1).t.size == 0  # ended: nothing more is integrated

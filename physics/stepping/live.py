@@ -80,6 +80,7 @@ class LiveRun:
             self.p = np.zeros(0)
             self.y = np.zeros(0)
             self.last = self._closed(np.array([0.0]))
+            self._require_finite_row("the closed form's theta, K and E at t = 0")
             return
         self.p = np.asarray(self.model.pack(scenario), dtype=float)
         check_method(self.model, scenario, _method(scenario))
@@ -87,8 +88,17 @@ class LiveRun:
         _require_finite(scenario, self.y, "the initial state")
         self.stepper = Stepper(self.model, scenario, self.y, method=_method(scenario), p=self.p, kernels=pick)
         self.last = self._observe(np.array([0.0]), self.y[None, :])
-        _require_finite(scenario, np.array([self.last.theta[0], self.last.K[0], self.last.E[0]]),
-                        "theta, |K| and E at t = 0")
+        self._require_finite_row("theta, |K| and E at t = 0")
+
+    def _require_finite_row(self, what: str) -> None:
+        """ScenarioError naming the extreme value when the last row (theta, |K|, E, omega, the attitude) or the
+        inertial K vector is not finite: a closed form's start is checked as a state is (G0 = 1e-300 on the
+        pendulum's averaged solution gave K's direction as NaN)."""
+        row = self.last
+        values = [row.theta[-1:], row.K[-1:], row.E[-1:], row.omega[-1], row.quat[-1]]
+        with np.errstate(all="ignore"):
+            values.append(np.atleast_1d(self.momentum()))
+        _require_finite(self.scenario, np.concatenate([np.ravel(np.asarray(v, dtype=float)) for v in values]), what)
 
     def _set_params(self, scenario: Scenario) -> None:
         """The readouts of the scenario's run: rtol, the braking torque b and the medium's lambda."""
@@ -117,8 +127,14 @@ class LiveRun:
         return self.stepper.atol if self.stepper is not None else 0.0
 
     def reset(self) -> None:
-        """Back to t = 0 with the current scenario."""
-        self._start(self.scenario, self.requested)
+        """Back to t = 0 with the current scenario. Raises ScenarioError, with the run as it was, when the
+        scenario cannot start there (a value carried into a running state may make t = 0 non-finite)."""
+        before = dict(self.__dict__)
+        try:
+            self._start(self.scenario, self.requested)
+        except ScenarioError:
+            self.__dict__.update(before)  # refused: the run goes on as it was, never half started
+            raise
 
     def retune(self, scenario: Scenario, fidelity: str | None = None, *, keep_state: bool = True) -> bool:
         """Run ``scenario`` from now on. Returns True when the current state was carried over, False when
@@ -156,8 +172,17 @@ class LiveRun:
             self.energy_change, self.edit, self.edit_note = None, None, note
             return False
         _require_finite(scenario, carried.y, "the state carried over")
-        if origin is not None:
-            return self._go_on_closed(scenario, fidelity, res, origin, carried)
+        before = dict(self.__dict__)
+        try:
+            if origin is not None:
+                return self._go_on_closed(scenario, fidelity, res, origin, carried)
+            return self._go_on_state(scenario, fidelity, res, carried)
+        except ScenarioError:
+            self.__dict__.update(before)  # refused: the run goes on as it was
+            raise
+
+    def _go_on_state(self, scenario: Scenario, fidelity: str | None, res: Resolved, carried) -> bool:
+        """Go on from now with the carried state under ``scenario`` (ScenarioError if its row is not finite)."""
         p = np.asarray(res.model.pack(scenario), dtype=float)
         if res.model is self.model and self.stepper is not None:
             stepper = copy.copy(self.stepper)  # never changed in place: see the class docstring
@@ -179,11 +204,13 @@ class LiveRun:
         if self.status == BRAKED and self.b == 0.0:
             self.status, self.message = RUNNING, ""
         self.last = self._observe(np.array([self.t]), self.y[None, :])
+        self._require_finite_row("theta, |K| and E of the state carried over")
         return True
 
     def _go_on_closed(self, scenario: Scenario, fidelity: str | None, res: Resolved, origin: ClosedOrigin,
                       carried) -> bool:
-        """Go on from now with a closed form restarted at the present K and attitude (physics/systems/restart.py)."""
+        """Go on from now with a closed form restarted at the present K and attitude (physics/systems/restart.py);
+        ScenarioError when the closed form is not finite there."""
         self.scenario, self.requested = scenario, fidelity or scenario.run.fidelity
         self.model, self.fidelity, self.reason = res.model, res.fidelity, res.reason
         self.stepper, self.p, self.y = None, np.zeros(0), np.zeros(0)
@@ -192,6 +219,7 @@ class LiveRun:
         if self.status == BRAKED and self.b == 0.0:
             self.status, self.message = RUNNING, ""
         self.last = self._closed(np.array([self.t]))
+        self._require_finite_row("the closed form's theta, K and E where it starts")
         self.energy_change = float(self.last.E[0]) - carried.E_before
         self.edit, self.edit_note = carried, ""
         return True
@@ -239,11 +267,26 @@ class LiveRun:
             self.message = str(piece.fault())
         if not len(piece.rows_t):
             return self._empty()
-        self.t = float(piece.rows_t[-1])
-        self.y = piece.rows_y[-1].copy()
-        tr = self._observe(piece.rows_t, piece.rows_y)
+        tr = self._cut_at_nonfinite(self._observe(piece.rows_t, piece.rows_y))
+        if not len(tr):
+            return self._empty()
+        self.t = float(tr.t[-1])
+        self.y = piece.rows_y[len(tr) - 1].copy()
         self.last = tr.slice(len(tr) - 1)
         return tr
+
+    def _cut_at_nonfinite(self, tr: Trajectory, after: float = math.inf) -> Trajectory:
+        """``tr`` up to its first row with a non-finite theta, |K|, E, omega or attitude (before ``after``),
+        which stops the run as a fault: a finite state can still give E = inf (M = 1e308), and a viewer must
+        never show NaN as a running value."""
+        ok = (np.isfinite(tr.theta) & np.isfinite(tr.K) & np.isfinite(tr.E)
+              & np.all(np.isfinite(tr.omega), axis=1) & np.all(np.isfinite(tr.quat), axis=1)) | (tr.t > after)
+        if ok.all():
+            return tr
+        bad = int(np.argmin(ok))
+        self.status = FAULT
+        self.message = f"theta, |K| or E became non-finite (NaN or infinity) at t = {tr.t[bad]:.6g} s"
+        return tr.slice(0, bad)
 
     def _advance_closed(self, times: np.ndarray) -> Trajectory:
         try:
@@ -252,7 +295,10 @@ class LiveRun:
             self.status, self.message = FAULT, f"closed form failed: {exc}"
             return self._empty()
         stop = tr.info.get("t_stop")
-        if "braking" in str(tr.info.get("stop_reason", "")) and stop is not None:
+        braked = "braking" in str(tr.info.get("stop_reason", "")) and stop is not None
+        # what follows the end of the spin is the braking's, not a fault
+        tr = self._cut_at_nonfinite(tr, after=stop if braked else math.inf)
+        if braked and self.status != FAULT:
             self.status = BRAKED
             self.message = f"braking brought |G| to zero at t = {stop:.6g} s"
         if len(tr):
@@ -310,4 +356,4 @@ def _require_finite(scenario: Scenario, values: np.ndarray, what: str) -> None:
     from physics.core.blame import most_extreme
 
     key, value = most_extreme(scenario)
-    raise ScenarioError(key, value, f"makes {what} non-finite (overflow): choose a value nearer 1 in size")
+    raise ScenarioError(key, value, f"makes {what} non-finite (overflow or underflow): choose a value nearer 1 in size")
