@@ -29,6 +29,7 @@ from test_app_browser import (
     sync_api,
     wait_until,
 )
+from test_app_browser_scene import choose_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 RANDOM_CHANGES = 120
@@ -148,10 +149,11 @@ def test_an_invalid_combination_shows_its_message(page, server):
 def test_every_preset_and_every_system_and_fidelity(page, server):
     from app import controls, presets
 
-    for name in presets.preset_names():
-        choose(page, "Preset", name)
+    for name in presets.preset_names():  # each one seen loaded on the page: a click the dropdown swallowed
+        # while the server resent its options (after the previous load) is made again, never assumed
+        choose_until(page, "Preset", name, lambda n=name: f"preset: {n}" in readouts(page).splitlines(),
+                     f"the preset {name!r} on the page")
         click(page, "Pause")
-    wait_until(page, lambda: presets.preset_names()[-1] in readouts(page), "the last preset")
     click(page, "Pause")  # each preset starts playing
     for system in controls.SYSTEM_LABELS:
         choose(page, "System", system)
