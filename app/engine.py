@@ -123,9 +123,13 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.values = controls.values_of(sc)
         self.run = run
         self.clock.warp = DEFAULT_WARP if name == presets.DEFAULT else presets.suggested_warp(sc)
-        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = sc.run.fidelity, sc.run.accuracy, pivot_of(sc)
+        self._adopt_choices(sc)
         self._restarted()
         self.exaggeration = self.default_exaggeration()  # the panel's slider follows (sliders_changed)
+
+    def _adopt_choices(self, sc: physics.Scenario) -> None:
+        """The panel's run-level choices (kept across slider edits, app.actions.with_choices) as ``sc`` has them."""
+        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = sc.run.fidelity, sc.run.accuracy, pivot_of(sc)
 
     def default_exaggeration(self) -> float:
         """The factor the mass's displacement is drawn with for this scene: a fraction of the body (app.mass_view)."""
@@ -265,7 +269,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
     def replay_retune(self, sc: physics.Scenario) -> None:
         """Go on under ``sc`` from now, as a change made in a tab did (app.record replays a tab's run)."""
         kept = self.run.retune(sc, keep_state=True)
-        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = sc.run.fidelity, sc.run.accuracy, pivot_of(sc)
+        self._adopt_choices(sc)
         self.shape = self._shape(sc)
         self.scene_changed = self.overlay_dirty = True
         if not kept:

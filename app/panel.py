@@ -237,7 +237,9 @@ class Panel:
         self._sync_choices()
 
     def _sync_choices(self) -> None:
-        """auto's accuracy, shown while auto is the fidelity, and the spherical pendulum's pivot: the scene's."""
+        """auto's accuracy, shown while auto is the fidelity, and the spherical pendulum's pivot: the scene's.
+        Each frame, on purpose: a value the engine refused (a raw client's) is set back on the page this way;
+        ``_set`` sends only what differs."""
         eng = self.engine
         _set(self.accuracy, "options", tuple(controls.accuracy_options(eng.accuracy_choice)))
         _set(self.accuracy, "value", controls.accuracy_label(eng.accuracy_choice))

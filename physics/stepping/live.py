@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import copy
 import math
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -94,11 +95,20 @@ class LiveRun:
         """ScenarioError naming the extreme value when the last row (theta, |K|, E, omega, the attitude) or the
         inertial K vector is not finite: a closed form's start is checked as a state is (G0 = 1e-300 on the
         pendulum's averaged solution gave K's direction as NaN)."""
-        row = self.last
-        values = [row.theta[-1:], row.K[-1:], row.E[-1:], row.omega[-1], row.quat[-1]]
         with np.errstate(all="ignore"):
-            values.append(np.atleast_1d(self.momentum()))
-        _require_finite(self.scenario, np.concatenate([np.ravel(np.asarray(v, dtype=float)) for v in values]), what)
+            K = np.atleast_1d(self.momentum())
+        row_ok = bool(_finite_rows(self.last)[-1])
+        _require_finite(self.scenario, np.append(K, 0.0 if row_ok else np.nan), what)
+
+    @contextmanager
+    def _as_it_was_if_refused(self):
+        """On ScenarioError inside the block, every attribute back as it was before it (then re-raised)."""
+        before = dict(self.__dict__)
+        try:
+            yield
+        except ScenarioError:
+            self.__dict__.update(before)
+            raise
 
     def _set_params(self, scenario: Scenario) -> None:
         """The readouts of the scenario's run: rtol, the braking torque b and the medium's lambda."""
@@ -129,12 +139,8 @@ class LiveRun:
     def reset(self) -> None:
         """Back to t = 0 with the current scenario. Raises ScenarioError, with the run as it was, when the
         scenario cannot start there (a value carried into a running state may make t = 0 non-finite)."""
-        before = dict(self.__dict__)
-        try:
+        with self._as_it_was_if_refused():  # refused: the run goes on as it was, never half started
             self._start(self.scenario, self.requested)
-        except ScenarioError:
-            self.__dict__.update(before)  # refused: the run goes on as it was, never half started
-            raise
 
     def retune(self, scenario: Scenario, fidelity: str | None = None, *, keep_state: bool = True) -> bool:
         """Run ``scenario`` from now on. Returns True when the current state was carried over, False when
@@ -163,23 +169,15 @@ class LiveRun:
             except CannotCarry as exc:
                 note = f"state not kept: {exc}; restarted from t = 0"
         if carried is None:
-            before = dict(self.__dict__)
-            try:
+            with self._as_it_was_if_refused():  # refused: the run goes on as it was
                 self._start(scenario, fidelity)
-            except ScenarioError:
-                self.__dict__.update(before)  # refused: the run goes on as it was
-                raise
             self.energy_change, self.edit, self.edit_note = None, None, note
             return False
         _require_finite(scenario, carried.y, "the state carried over")
-        before = dict(self.__dict__)
-        try:
+        with self._as_it_was_if_refused():
             if origin is not None:
                 return self._go_on_closed(scenario, fidelity, res, origin, carried)
             return self._go_on_state(scenario, fidelity, res, carried)
-        except ScenarioError:
-            self.__dict__.update(before)  # refused: the run goes on as it was
-            raise
 
     def _go_on_state(self, scenario: Scenario, fidelity: str | None, res: Resolved, carried) -> bool:
         """Go on from now with the carried state under ``scenario`` (ScenarioError if its row is not finite)."""
@@ -279,8 +277,7 @@ class LiveRun:
         """``tr`` up to its first row with a non-finite theta, |K|, E, omega or attitude (before ``after``),
         which stops the run as a fault: a finite state can still give E = inf (M = 1e308), and a viewer must
         never show NaN as a running value."""
-        ok = (np.isfinite(tr.theta) & np.isfinite(tr.K) & np.isfinite(tr.E)
-              & np.all(np.isfinite(tr.omega), axis=1) & np.all(np.isfinite(tr.quat), axis=1)) | (tr.t > after)
+        ok = _finite_rows(tr) | (tr.t > after)
         if ok.all():
             return tr
         bad = int(np.argmin(ok))
@@ -346,6 +343,12 @@ def _method(scenario: Scenario) -> str:
     """The stepper's method for a live run: the scenario's fixed-step method, else the compiled DOP853 (scipy's
     methods run whole runs only)."""
     return scenario.run.method if scenario.run.method in FIXED_STEP_METHODS else "auto"
+
+
+def _finite_rows(tr: Trajectory) -> np.ndarray:
+    """Per row: whether theta, |K|, E, omega and the attitude are all finite."""
+    return (np.isfinite(tr.theta) & np.isfinite(tr.K) & np.isfinite(tr.E)
+            & np.all(np.isfinite(tr.omega), axis=1) & np.all(np.isfinite(tr.quat), axis=1))
 
 
 def _require_finite(scenario: Scenario, values: np.ndarray, what: str) -> None:
