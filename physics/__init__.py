@@ -8,6 +8,7 @@ Headless (numpy, scipy, numba); never imports the app or viser. The public API:
     physics.sweep(sc, vary={"mass.chi": "1:20:5"}, metric="decay_time")   # SweepTable (docs/sweeps.md)
 """
 
+from physics.core import figure
 from physics.core.errors import IntegrationFault, ScenarioError, ValidityWarning
 from physics.core.rotation import IDENTITY, qconj, qmul, rotate, rotation_matrix
 from physics.core.trajectory import Trajectory
@@ -52,7 +53,7 @@ from physics.systems.pendulum.geometry import resolved_stiffness
 from physics.systems.pendulum.params import PIVOTS
 
 __all__ = [
-    "Body", "BuildStatus", "CannotCarry", "Carried", "build_kernels", "kernel_status",
+    "Body", "BuildStatus", "figure", "CannotCarry", "Carried", "build_kernels", "kernel_status",
     "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "LiveRun", "Mass", "Medium", "Model",
     "METRICS", "Metric", "REGISTRY", "Run", "Scenario", "ScenarioError", "SweepTable", "Trajectory", "ValidityWarning",
     "averaged_conditions", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "sweep",

@@ -194,6 +194,8 @@ class System:
     ``braking_time(G, b, lam)``: the time a braking torque b brings |G| to zero against a medium lam, or None
     when the system has no law for it. ``quantities``: (unit, meaning) of ``derived``'s keys for ``physics
     info``; ``quantity(name)`` the same for keys built at run time (one per pendulum), or None.
+    ``figure(sc, state, view)`` the part's picture as plain primitives in body coordinates
+    (physics/core/figure.py); ``actions`` the controls it adds beyond its sliders (``figure.Action``).
     """
 
     name: str
@@ -220,6 +222,8 @@ class System:
     braking_time: Callable[[float, float, float], float] | None = None
     quantities: dict[str, tuple[str, str]] = field(default_factory=dict)
     quantity: Callable[[str], tuple[str, str] | None] = lambda name: None
+    figure: Callable[[Any, dict, Any], tuple] = lambda sc, state, view: ()
+    actions: tuple = ()
     models: dict[str, Model] = field(default_factory=dict)
 
     @property
