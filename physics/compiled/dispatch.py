@@ -12,12 +12,14 @@ from numba import njit
 from . import averaged as averaged_kernel
 from . import mass_full as mass_full_kernel
 from . import pendulum as pendulum_kernel
+from . import wheel as wheel_kernel
 
 MASS_FULL = 0
 MASS_AVERAGED = 1
 SPHERICAL_FULL = 2
 PLANE_FULL = 3
 MASS_AVERAGED_AXISYMMETRIC = 4  # the averaged model's slow (w_perp, w3) reduction, J*1 = J*2 only
+WHEEL_FULL = 5
 
 
 @njit(cache=True)
@@ -30,6 +32,8 @@ def rhs(model, t, y, p, out):
         pendulum_kernel.rhs(t, y, p, out)
     elif model == MASS_AVERAGED_AXISYMMETRIC:
         averaged_kernel.rhs_axisymmetric(t, y, p, out)
+    elif model == WHEEL_FULL:
+        wheel_kernel.rhs(t, y, p, out)
 
 
 @njit(cache=True)
@@ -57,8 +61,8 @@ def braking_norm(model, y, p):
     """|G| for the braking law: the run ends when it reaches zero (seed 004 eq. (11))."""
     if model == MASS_FULL:
         return mass_full_kernel.braking_norm(y, p)
-    if model == SPHERICAL_FULL or model == PLANE_FULL:
-        return 1.0  # no braking law for the pendulum systems
+    if model == SPHERICAL_FULL or model == PLANE_FULL or model == WHEEL_FULL:
+        return 1.0  # no braking law for the pendulum systems and the wheel
     if model == MASS_AVERAGED_AXISYMMETRIC:
         return averaged_kernel.braking_norm_axisymmetric(y, p)
     return averaged_kernel.braking_norm(y, p)
