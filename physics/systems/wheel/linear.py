@@ -12,8 +12,8 @@ For an axisymmetric body (A = B) with a transverse axis (a = e1) the characteris
 
     J A (A - J) s^3 + c A^2 s^2 + J n^2 (C - A)(C - A + J) s + c n^2 (C - A)^2 = 0     (``cubic``)
 
-(Routh-Hurwitz: for C > A all its roots have Re s < 0 whenever c > 0; for c = 0 the nutation frequency is
-n sqrt((C - A)(C - A + J) / (A (A - J)))).
+(Routh-Hurwitz, a2 a1 - a3 a0 = c J^2 n^2 C (C - A): for c > 0 all roots have Re s < 0 iff C > A; for c = 0 the
+nutation frequency is n sqrt((C - A)(C - A + J) / (A (A - J)))).
 """
 
 from __future__ import annotations

@@ -18,7 +18,6 @@ NAME = "wheel"
 FOLDER = "Wheel damper"
 THETA_MAX = 0.1  # rad: the linear theory's largest initial nutation angle (its error grows as theta0^2)
 GROWTH_MAX = 0.5  # e-folds the linear nutation may grow over the run and still be small
-AXIS_TOL = 1e-9  # |a3|, |A - B|/A: the closed form's derived cubic assumes a transverse axis on a symmetric body
 
 PARAMS = (
     Param("wheel.J", "J", "kg m^2", "the wheel's moment of inertia about its own axis (A, B, C include it, "
@@ -49,11 +48,6 @@ def check(sc) -> None:
     if sc.initial.mass_state != "rest":
         raise ScenarioError("initial.mass_state", sc.initial.mass_state,
                             'must be "rest" with a wheel damper: the wheel starts at rest relative to the body')
-
-
-def _symmetric_transverse(sc) -> bool:
-    b, a = sc.body, sc.wheel.axis
-    return abs(b.A - b.B) <= AXIS_TOL * b.A and abs(a[2]) <= AXIS_TOL
 
 
 def conditions(sc) -> list[Condition]:
