@@ -7,7 +7,7 @@ as a browser tab must to get a session: it connects to ``ws://127.0.0.1:PORT`` o
 subprotocol ``viser-v<version>`` (viser rejects other versions), sends the one message a browser sends
 first (its camera, ``ViewerCameraMessage``: viser counts a client as connected, and the app builds its
 session, only after it), then reads. Every websocket message
-the server sends is one window of updates (zstd-compressed msgpack, VISER_NOTES.md); the client
+the server sends is one window of updates (msgpack, zstd-compressed as viser sends it); the client
 decodes each and counts, per second, the windows that move the body (a ``SetOrientationMessage`` for the body frame),
 which is what a browser would redraw.
 

@@ -1,4 +1,7 @@
-"""The explorer in a real browser: Debian's chromium driven by Playwright (../shared/VISER_NOTES.md).
+"""The explorer in a real browser: Debian's chromium (``apt-get install chromium``, /usr/bin/chromium) driven by
+the ``playwright`` Python package, never ``playwright install``, which downloads a browser of its own. Headless
+chromium runs WebGL in software; the page answers only while Playwright waits (``page.wait_for_timeout``, not
+``time.sleep``, or no events are delivered).
 
 One server in a subprocess for the module; the tests run in order on one page, then open a second tab.
 The readouts panel prints ``name = value`` lines, which the tests read back.
