@@ -194,7 +194,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
                     help="also measure with compare mode's second body (the default scene without the mass); "
                          f"default outputs {OUT_COMPARE.relative_to(ROOT)} and {IMG_COMPARE.relative_to(ROOT)}")
     a = ap.parse_args(argv)
-    if a.compare:  # its own files: the single-body figures quoted in the README stay as they were measured
+    if a.compare:  # its own files: the single-body figures quoted in docs/performance.md stay as they were measured
         a.out = OUT_COMPARE if a.out == OUT else a.out
         a.img = IMG_COMPARE if a.img == IMG else a.img
     if a.chart_only:
