@@ -191,12 +191,12 @@ def test_nothing_a_browser_sends_opens_a_server_path(monkeypatch, action):
 # ---- meshes: command line only, validated ------------------------------------------------------------------
 def test_a_mesh_path_comes_only_from_the_command_line():
     """A browser picks a shipped mesh by name (app/engine/mesh.py asset_path); a file path is the command line's."""
-    server = (ROOT / "app" / "server.py").read_text()
+    server = (ROOT / "app" / "serve" / "server.py").read_text()
     assert "load_mesh(" not in server
     callers = {p.relative_to(ROOT).as_posix() for p in SOURCES if "load_mesh(" in p.read_text() and p.name != "mesh.py"}
     assert callers <= {"app/__main__.py", "app/engine/actions.py", "bench/figures.py"}, callers
     if "app/engine/actions.py" in callers:  # the GUI's mesh choice: only through the assets folder's names
-        state = (ROOT / "app" / "actions.py").read_text()
+        state = (ROOT / "app" / "engine" / "actions.py").read_text()
         assert state.count("load_mesh(") == state.count("load_mesh(path") and "path = meshes.asset_path(name)" in state
 
 
