@@ -5,7 +5,7 @@ model live, one simulation per browser tab. Run it with ``python -m app``. It us
 
 def show(scenario=None, **options):
     """Serve the explorer and show it inline in a Jupyter notebook; returns a handle whose ``stop()`` ends it
-    (app.notebook.show: its options). Imported on call, so ``import app`` stays light."""
-    from .notebook import show as _show
+    (app.serve.notebook.show: its options). Imported on call, so ``import app`` stays light."""
+    from .serve.notebook import show as _show
 
     return _show(scenario, **options)

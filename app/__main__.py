@@ -29,8 +29,8 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv[:1] == ["record"]:  # `python -m app record ...`: write a replay file instead of serving (app.record_cli)
-        from .record_cli import main as record_main
+    if argv[:1] == ["record"]:  # `python -m app record ...`: write a replay file instead of serving (app.replay.cli)
+        from .replay.cli import main as record_main
 
         return record_main(argv[1:])
     args = parse(argv)
@@ -44,12 +44,12 @@ def main(argv: list[str] | None = None) -> int:
     print("Quasirigid explorer: starting the server...", flush=True)
     import viser  # the web server first, so a browser loads the page while the physics loads
 
-    from .guard import configure
+    from .serve.guard import configure
 
     configure(args.host, tuple(args.allow_origin))  # same-origin browsers and this host's name only
-    from .share_link import install as share_links
+    from .share.link import install as share_links
 
-    share_links()  # the page hands its address and a link's scene to the tab (app.share_link)
+    share_links()  # the page hands its address and a link's scene to the tab (app.share.link)
     server = viser.ViserServer(host=args.host, port=args.port, label="Quasirigid")
     shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
     url = f"http://{shown}:{server.get_port()}"
@@ -66,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.scenario:
             scenario = physics.Scenario.load(args.scenario)
         if args.mesh:
-            from .mesh import load_mesh, with_mesh
+            from .engine.mesh import load_mesh, with_mesh
 
             base = scenario or physics.default_scenario()
             mesh = load_mesh(args.mesh, base.body.M)
@@ -76,7 +76,7 @@ def main(argv: list[str] | None = None) -> int:
             except physics.ScenarioError as exc:
                 if args.scenario:
                     raise
-                from .mesh import scaled_to  # the default scene's parts do not fit: scale the mesh to them
+                from .engine.mesh import scaled_to  # the default scene's parts do not fit: scale the mesh to them
 
                 scaled = scaled_to(mesh, base.body)
                 scale = float(np.sqrt(np.sum(scaled.moments) / np.sum(mesh.moments)))
@@ -92,7 +92,7 @@ def main(argv: list[str] | None = None) -> int:
         server.stop()
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    from .server import App, warm_up
+    from .serve.server import App, warm_up
 
     app = App(scenario=scenario, mesh=mesh, server=server)
     warm_up()

@@ -7,7 +7,7 @@ exists, and reads the session's counters. Usage:
 small table and writes bench/results/explorer_rates.csv, bench/results/explorer_rates.meta.json (the command,
 the date, the machine and versions, the load average before and after) and the chart
 docs/img/explorer_rates.png. ``--chart-only`` redraws the chart from the CSV without measuring. ``--compare`` adds
-the frame rates with compare mode's second body (app.compare) and writes bench/results/explorer_rates_compare.csv
+the frame rates with compare mode's second body (app.engine.compare) and writes bench/results/explorer_rates_compare.csv
 (+ .meta.json) and docs/img/explorer_rates_compare.png instead.
 (``python bench/explorer_rates.py ...`` runs the same.)
 """
@@ -28,7 +28,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if not __package__:  # run as a file (python bench/explorer_rates.py): its folder is on the path, not the project's
     sys.path.insert(0, str(ROOT))
 
-from app.server import App, warm_up  # noqa: E402
+from app.serve.server import App, warm_up  # noqa: E402
 from bench.cli import study_parser  # noqa: E402
 from bench.explorer_startup import save_chart  # noqa: E402
 from bench.machine import machine  # noqa: E402
@@ -47,7 +47,7 @@ FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-
 def measure(seconds: float = 10.0, out: Path = OUT, img: Path = IMG, command: str | None = None,
             compare: bool = False) -> None:
     """Measure, print, write the CSV and its metadata (``command`` recorded in it), draw the chart. With
-    ``compare``, the same frame rates again with compare mode's second body (app.compare: the default scene
+    ``compare``, the same frame rates again with compare mode's second body (app.engine.compare: the default scene
     without the mass beside it), in the same run and on the same page."""
     load_before = os.getloadavg()[0]
     warm_up()

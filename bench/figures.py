@@ -456,7 +456,7 @@ def fig_flat_spin(out: Path, quick: bool) -> list[Path]:
 # ==== the explorer's figure presets ==================================================================
 
 PRESET_DIR = ROOT / "assets/scenarios/figures"
-PRESET_HEADER = "# preset: "  # first line of each file: the title app/presets.py shows
+PRESET_HEADER = "# preset: "  # first line of each file: the title app/engine/presets.py shows
 
 
 def figure_presets() -> dict[str, tuple[str, physics.Scenario]]:

@@ -1,7 +1,7 @@
 """Many websocket clients on one explorer server, and the server's memory while they watch.
 
 ``python -m bench load --clients 10 --minutes 5`` serves the explorer in this process
-(``app.server.App`` on a free loopback port) and starts the clients in a child process, so the
+(``app.serve.server.App`` on a free loopback port) and starts the clients in a child process, so the
 resident memory sampled here is the server's alone. Each client speaks viser's protocol only as far
 as a browser tab must to get a session: it connects to ``ws://127.0.0.1:PORT`` offering the
 subprotocol ``viser-v<version>`` (viser rejects other versions), sends the one message a browser sends
@@ -39,7 +39,7 @@ from .machine import machine
 
 ROOT = Path(__file__).resolve().parent.parent
 TARGET_UPDATES_PER_S = 30.0  # issue 7: each client keeps receiving at least this many
-BODY_NODE = "/body"  # the session's body frame is /s<client id>/body (app/server.py)
+BODY_NODE = "/body"  # the session's body frame is /s<client id>/body (app/serve/server.py)
 
 
 # ---- the client side (child process) ---------------------------------------------------------------
@@ -152,8 +152,8 @@ def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_ev
     glibc's malloc_trim before each memory sample, which tells live memory (a leak) from freed memory the
     allocator keeps."""
     import physics
-    from app import presets
-    from app.server import App, warm_up
+    from app.engine import presets
+    from app.serve.server import App, warm_up
 
     warm_up()
     if churn_every:  # every system's kernels loaded once now, so their one-time cost is not counted as growth
@@ -246,11 +246,11 @@ def _note_shown(churns: list, shown: set[int]) -> None:
 def _after_clients_left(app, wait: float = 15.0) -> dict:
     """Counts once every client has gone: sessions opened and closed, the frames each session published,
     and the ``Session`` objects still alive. A closed session is cyclic garbage that App frees in a
-    ``collect-session`` thread (app/server.py ``_collect_closed``); those threads are waited for, and
+    ``collect-session`` thread (app/serve/server.py ``_collect_closed``); those threads are waited for, and
     nothing here runs a collection itself, so a session that cleanup missed is counted."""
     import gc
 
-    from app.session import Session
+    from app.serve.session import Session
 
     end = time.perf_counter() + wait
     while app.sessions and time.perf_counter() < end:  # the clients' last disconnections being handled

@@ -1,6 +1,6 @@
 """Soak: the explorer served for a long time, and how much the server's memory grows.
 
-``python -m bench soak --minutes N`` serves the explorer in this process (``app.server.App``, a free
+``python -m bench soak --minutes N`` serves the explorer in this process (``app.serve.server.App``, a free
 loopback port) with ``--clients`` websocket clients in a child process (bench/load.py says how they
 speak viser's protocol). While they watch, one session loads the next preset every ``--churn``
 seconds (its scene redrawn, its run restarted) and the last client disconnects and reconnects every

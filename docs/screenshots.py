@@ -2,7 +2,7 @@
 
     python docs/screenshots.py [--only NAME ...] [--out docs/img]
 
-Starts app.server.App in-process on a free port (as bench/explorer_rates.py does), opens one page, and for
+Starts app.serve.server.App in-process on a free port (as bench/explorer_rates.py does), opens one page, and for
 each shot chooses a preset through the tab's engine (and shows the choice in the panel), lets the simulation
 run for a few seconds and saves docs/img/guide_<name>.png (1280 x 800). Re-run it whenever the explorer's
 panel or scene changes; a shot whose preset no longer exists fails loudly rather than being skipped.
@@ -21,8 +21,8 @@ sys.path.insert(0, str(ROOT))  # run as a script from anywhere
 
 from playwright.sync_api import sync_playwright  # noqa: E402
 
-from app import presets  # noqa: E402
-from app.server import App, warm_up  # noqa: E402
+from app.engine import presets  # noqa: E402
+from app.serve.server import App, warm_up  # noqa: E402
 
 CHROMIUM = "/usr/bin/chromium"
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -41,7 +41,7 @@ class Shot:
     seconds: float = 6.0
     settings: tuple[tuple[str, str, object], ...] = ()  # (session attribute, engine action, value)
     warp: float | None = None
-    folders: tuple[str, ...] = field(default=())  # slider folders to open (titles in app/controls.py FOLDERS)
+    folders: tuple[str, ...] = field(default=())  # slider folders to open (titles in app/engine/controls.py FOLDERS)
     scroll_to: str = "Quasirigid explorer"  # panel text brought to the top of the panel (default: its top)
     file: str = ""  # the PNG's name in --out (default guide_<name>.png)
     size: tuple[int, int] | None = None  # the page's size for this shot (default VIEWPORT)
@@ -154,7 +154,7 @@ def take(session, page, shot: Shot, out: Path) -> Path:
 def mesh_shot(browser, out: Path) -> Path:
     """`python -m app --scenario assets/scenarios/prolate_flat_spin.toml --mesh assets/meshes/satellite.stl`."""
     import physics
-    from app.mesh import load_mesh, with_mesh
+    from app.engine.mesh import load_mesh, with_mesh
 
     base = physics.Scenario.load(MESH_SCENARIO)
     mesh = load_mesh(MESH_FILE, base.body.M)

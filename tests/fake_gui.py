@@ -1,4 +1,4 @@
-"""Just enough of viser's GUI for headless panel tests (app/speed_panel.py, app/sweep_panel.py): widgets
+"""Just enough of viser's GUI for headless panel tests (app/studies/speed_panel.py, app/studies/sweep_panel.py): widgets
 are recorded, and a test fires their callbacks."""
 
 from __future__ import annotations

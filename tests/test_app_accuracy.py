@@ -15,9 +15,9 @@ import pytest
 from test_app_words import DT, _RecordingGui
 
 import physics
-from app import controls, words
-from app.engine import Engine
-from app.panel import Panel
+from app.engine import controls, words
+from app.engine.engine import Engine
+from app.panel.panel import Panel
 
 GUIDE = Path(__file__).resolve().parents[1] / "docs" / "guide.md"
 OBLATE = "Oblate body settling"  # the closed form's estimate (about 0.06 rad) fails 1e-3 and meets 0.1

@@ -147,7 +147,7 @@ def test_an_invalid_combination_shows_its_message(page, server):
 
 
 def test_every_preset_and_every_system_and_fidelity(page, server):
-    from app import controls, presets
+    from app.engine import controls, presets
 
     for name in presets.preset_names():  # each one seen loaded on the page: a click the dropdown swallowed
         # while the server resent its options (after the previous load) is made again, never assumed

@@ -28,7 +28,7 @@ from test_app_browser import (  # noqa: F401  (url and browser are fixtures)
     wait_until,
 )
 
-from app.plots import SPANS
+from app.panel.plots import SPANS
 
 pytestmark = pytest.mark.browser
 
@@ -131,7 +131,7 @@ def test_tick_labels_are_whole_distinct_and_right_on_the_default_scene(page):
 def _preset_with_the_largest_K() -> str:
     """The preset whose |K| is largest (Taylor's damper, |K| = 455, showed "0" for its ticks)."""
     import physics
-    from app import presets
+    from app.engine import presets
 
     return max(presets.preset_names(), key=lambda n: physics.LiveRun(presets.load_preset(n)).last.K[0])
 
@@ -175,7 +175,7 @@ def _control(page, text: str) -> str:
 
 
 def test_the_prediction_starts_at_t0(page):
-    from app import presets
+    from app.engine import presets
 
     choose(page, "Preset", presets.DEFAULT)  # the moving mass: its averaged model predicts theta
     wait_until(page, lambda: presets.DEFAULT in readouts(page), "the default scene")

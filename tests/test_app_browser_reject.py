@@ -3,7 +3,7 @@ a rejected value leaves its box showing the last good value, says why right unde
 eye is, and is never applied by a later edit; a value beyond the slider's range is clamped, with a note.
 
 The fixtures follow tests/test_app_browser.py: one server in a subprocess, one page, the tests in order.
-Keys are typed one by one, as a user types them (viser's box sends every keystroke: app/edits.py).
+Keys are typed one by one, as a user types them (viser's box sends every keystroke: app/engine/edits.py).
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from test_app_browser import ROOT, UI_TIMEOUT, browser, click, open_page, url, wait_until  # noqa: F401 (fixtures)
 
-from app.replay_page import external_refs
+from app.replay.page import external_refs
 
 pytestmark = pytest.mark.browser
 Image = pytest.importorskip("PIL.Image")

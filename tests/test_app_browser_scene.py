@@ -28,7 +28,7 @@ from test_app_browser import (
     wait_until,
 )
 
-from app.trail import SAMPLES_PER_TURN
+from app.engine.trail import SAMPLES_PER_TURN
 
 pytestmark = pytest.mark.browser
 Image = pytest.importorskip("PIL.Image")
@@ -56,7 +56,7 @@ assert CHROMIUM and FLAGS and sync_api  # imported for the fixtures above
 
 @pytest.fixture(scope="module")
 def app():
-    from app.server import App, warm_up
+    from app.serve.server import App, warm_up
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -139,7 +139,7 @@ def test_the_legend_follows_a_pendulum_preset(page):
 
 
 def test_aligned_arrows_share_one_label_once_settled(page, app, tmp_path):
-    from app.presets import DEFAULT
+    from app.engine.presets import DEFAULT
 
     choose_until(page, "Preset", DEFAULT, lambda: f"preset: {DEFAULT}" in readouts(page), "the default scene")
     set_warp(page, 2.0)  # 100x: the nutation closes within a few seconds

@@ -10,13 +10,13 @@ import pytest
 from test_app_browser import UI_TIMEOUT, browser, read, wait_until  # noqa: F401 (browser: a fixture)
 from test_app_browser_scene import FIXED_DPR, PIXEL_TOL, app, canvas_png, click, legend, session  # noqa: F401 (app: a fixture)
 
-from app.energy_plot import SPINS, TITLE
+from app.panel.energy_plot import SPINS, TITLE
 
 pytestmark = pytest.mark.browser
 np = pytest.importorskip("numpy")
 TOGGLE = "momentum sphere"
 MIN_CHANGED = 800  # px: a sphere 1.2 scene units across, with its curves, covers far more of a 1400x900 canvas
-LEGEND_NAME = "K in body axes"  # the legend's line for the sphere (app.legend)
+LEGEND_NAME = "K in body axes"  # the legend's line for the sphere (app.scene.legend)
 SAME_TOL = 0.2  # showing the sphere again changes at most this fraction of what hiding it changed (dithering)
 SPINS_SHOWN = [f"{symbol} (J): {what}" for symbol, what in SPINS]  # the legend's names at the plain scale
 TOGGLE_JS = """(label) => {

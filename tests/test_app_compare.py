@@ -1,4 +1,4 @@
-"""Compare mode, headless (app/compare.py): a second run with one difference on the engine's clock. Both runs
+"""Compare mode, headless (app/engine/compare.py): a second run with one difference on the engine's clock. Both runs
 reach the same t each tick; an edit reaches both with each run's |K| kept and the difference kept; one run
 braking or faulting leaves the other going; bad differences are refused with a message naming them."""
 
@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app import compare, controls
-from app.engine import Engine
+from app.engine import compare, controls
+from app.engine.engine import Engine
 from app.state import FRAME_HZ
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
@@ -200,7 +200,7 @@ def test_the_panel_overlays_both_runs_and_turning_off_restores_one():
 
     from test_app_words import _RecordingGui
 
-    from app.panel import Panel
+    from app.panel.panel import Panel
 
     e = Engine()
     panel = Panel(SimpleNamespace(gui=_RecordingGui(), scene=None, client_id=0), e)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.edit_report import LABEL
+from app.engine.edit_report import LABEL
 from app.state import FRAME_HZ, Engine
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")

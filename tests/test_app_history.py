@@ -1,11 +1,11 @@
-"""The decimating store behind the whole-run plots and the CSV export (app/history.py)."""
+"""The decimating store behind the whole-run plots and the CSV export (app/engine/history.py)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from app.history import DecimatingStore
+from app.engine.history import DecimatingStore
 
 
 def rows(start: int, n: int) -> np.ndarray:

@@ -8,8 +8,8 @@ import pytest
 import trimesh
 
 import physics
-from app.mesh import load_mesh, principal_order, with_mesh
-from app.scene import shape_moments
+from app.engine.geometry import shape_moments
+from app.engine.mesh import load_mesh, principal_order, with_mesh
 from app.state import Engine
 
 MOMENT_TOL = 1e-6  # relative: trimesh integrates a box exactly, but STL stores float32 vertices
@@ -21,7 +21,7 @@ def test_a_box_mesh_has_the_box_moments_with_e3_the_distinct_axis(tmp_path):
     M = 2.0
     mesh = load_mesh(path, M)
     a, b, c = 1.0, 1.0, 0.2  # after the turn the plate's normal is e3
-    from app.scene import Shape
+    from app.engine.geometry import Shape
 
     np.testing.assert_allclose(mesh.moments, shape_moments(Shape("box", dims=(a, b, c)), M), rtol=MOMENT_TOL)
     ext = mesh.vertices.max(axis=0) - mesh.vertices.min(axis=0)
@@ -63,7 +63,7 @@ def test_the_engine_draws_a_mesh_until_a_preset_is_loaded(tmp_path):
 
 
 def test_own_box_and_cylinder_meshes_are_closed_with_the_exact_volume():
-    from app.scene import box_mesh, cylinder_mesh
+    from app.engine.geometry import box_mesh, cylinder_mesh
 
     v, f = box_mesh((1.0, 2.0, 3.0))
     box = trimesh.Trimesh(v, f, process=False)
@@ -76,7 +76,7 @@ def test_own_box_and_cylinder_meshes_are_closed_with_the_exact_volume():
 
 
 def test_the_satellite_asset_is_a_closed_prolate_body():
-    from app.mesh import asset_names, asset_path
+    from app.engine.mesh import asset_names, asset_path
 
     assert "satellite.stl" in asset_names()
     mesh = load_mesh(asset_path("satellite.stl"), 500.0)
@@ -86,7 +86,7 @@ def test_the_satellite_asset_is_a_closed_prolate_body():
 
 
 def test_the_engine_draws_an_asset_mesh_and_refuses_anything_else():
-    from app.mesh import scaled_to
+    from app.engine.mesh import scaled_to
 
     e = Engine()
     before = e.scenario.body

@@ -16,8 +16,8 @@ from test_app_words import DT, _RecordingGui
 from test_pendulum_pivot import pole
 
 import physics
-from app.engine import Engine
-from app.panel import Panel
+from app.engine.engine import Engine
+from app.panel.panel import Panel
 
 POLE_T = 1.8  # s: the Cardan pivot's pole on tests/test_pendulum_pivot.py's scene (it stops at t = 1.84)
 

@@ -1,4 +1,4 @@
-"""The plots' y scales (app/plot_scale.py): whatever the data, the ticks uPlot draws are short, exact and
+"""The plots' y scales (app/panel/plot_scale.py): whatever the data, the ticks uPlot draws are short, exact and
 distinct. uPlot's tick choice is imitated here (the smallest allowed step that leaves ``space`` pixels
 between ticks, labels printed with at most 3 decimals, as Intl.NumberFormat does); the browser test
 tests/test_app_browser_plots.py reads the real ones off the page."""
@@ -12,12 +12,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from app.plot_scale import AxisScale, ScaleKeeper, choose
-from app.plots import INCRS
+from app.panel.plot_scale import AxisScale, ScaleKeeper, choose
+from app.panel.plots import INCRS
 
 CHART_PX = 90  # the smallest y extent of a chart in the panel (|K| and E: aspect 3.5)
 SPACE_PX = 30  # uPlot's default minimum space between y ticks
-LABEL_CHARS = 7  # app.plots.Y_AXIS_PX is sized for this many
+LABEL_CHARS = 7  # app.panel.plots.Y_AXIS_PX is sized for this many
 
 
 def fmt(x: float) -> str:

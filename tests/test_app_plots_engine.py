@@ -1,4 +1,4 @@
-"""The engine's whole-run plots, CSV export and overlay (app/engine.py, app/workers.py), headless: the
+"""The engine's whole-run plots, CSV export and overlay (app/engine/engine.py, app/engine/workers.py), headless: the
 plots and the export cover the run from t = 0 however long it has played, in bounded memory, and the
 cheaper model's prediction starts at t = 0 too."""
 
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import physics
-from app import engine as engine_module
+from app.engine import engine as engine_module
 from app.state import FRAME_HZ, PLOT_POINTS, SAMPLES_PER_FRAME, Engine
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")

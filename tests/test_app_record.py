@@ -15,9 +15,9 @@ import pytest
 
 import physics
 from app.__main__ import main as app_main
-from app.export import file_name, replay_seconds
-from app.record import MAX_SECONDS, REPLAY_FPS, record
-from app.replay_page import external_refs
+from app.replay.export import file_name, replay_seconds
+from app.replay.page import external_refs
+from app.replay.record import MAX_SECONDS, REPLAY_FPS, record
 
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_TOML = ROOT / "physics" / "data" / "default.toml"
@@ -101,7 +101,7 @@ def test_external_refs_finds_what_a_browser_would_fetch():
 
 
 def test_the_export_button_records_as_long_as_the_tab_has_played_within_bounds():
-    from app.engine import Engine
+    from app.engine.engine import Engine
 
     eng = Engine()
     eng.warp = 2.0
@@ -137,8 +137,8 @@ def test_import_physics_does_not_import_matplotlib():
 def test_the_export_replays_the_tabs_run_with_its_changes_at_their_times():
     """A tab that changed m at t = 1 s: the replay's run goes through the same change at the same t (within one
     frame), so it ends where the tab's run is, not where a run of the present scene from t = 0 would be."""
-    from app.engine import Engine
-    from app.record import REPLAY_FPS, copy_of_tab, record
+    from app.engine.engine import Engine
+    from app.replay.record import REPLAY_FPS, copy_of_tab, record
 
     tab = Engine()
     for _ in range(60):

@@ -19,9 +19,9 @@ import pytest
 from test_app_words import _RecordingGui
 
 import physics
-from app import controls, presets
-from app.engine import Engine
-from app.panel import Panel
+from app.engine import controls, presets
+from app.engine.engine import Engine
+from app.panel.panel import Panel
 
 NAME, LABEL, FOLDER = "free_body", "free body (test toy)", "Tag"
 DT = 1.0 / 60.0

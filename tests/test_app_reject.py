@@ -1,9 +1,9 @@
-"""Headless checks of typed slider values (app/edits.py through app/engine.py): a value physics rejects is
+"""Headless checks of typed slider values (app/engine/edits.py through app/engine/engine.py): a value physics rejects is
 never applied, now or by a later edit; a value beyond the slider's range is clamped with a note; a fault
 offers undo, which brings back the parameters and the run's state of just before the last change.
 
 The limits passed with each value are the sliders' (min, max), as the panel sends them; the browser's
-clamp-on-blur echo is the value viser's number box sends when it loses focus (app/edits.py)."""
+clamp-on-blur echo is the value viser's number box sends when it loses focus (app/engine/edits.py)."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import time
 import numpy as np
 import pytest
 
-from app import controls, edits
-from app.engine import Engine
+from app.engine import controls, edits
+from app.engine.engine import Engine
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
 DT = 1.0 / 60.0
@@ -230,7 +230,7 @@ def test_the_same_slider_moved_again_after_a_pause_is_a_new_change(monkeypatch):
     assert e.scenario.mass.Omega == omega0
 
 
-# ---- where the note goes (app/control_notes.py), on a stand-in for viser's GUI ----------------------------
+# ---- where the note goes (app/panel/control_notes.py), on a stand-in for viser's GUI ----------------------------
 
 class _Element:
     def __init__(self, gui, kind, text, order):
@@ -284,7 +284,7 @@ class _Gui:
 
 
 def _panel():
-    from app.control_notes import NotePlace
+    from app.panel.control_notes import NotePlace
 
     gui = _Gui()
     top = gui.add_markdown("error")

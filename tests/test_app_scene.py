@@ -1,4 +1,4 @@
-"""Headless checks of the scene geometry (app/scene.py): shapes with matching moments, the inertia
+"""Headless checks of the scene geometry (app/engine/geometry.py): shapes with matching moments, the inertia
 ellipsoid, quaternions, parts' positions and the bounded ring buffers."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from app.scene import (
+from app.engine.geometry import (
     E3,
     Ring,
     align,

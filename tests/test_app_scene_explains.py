@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 
 import physics
-from app import presets
-from app.engine import Engine
-from app.labels import LABEL_GAP, label_groups
-from app.legend import entries, legend_markdown, parts_of
-from app.mass_view import CAP_FRACTION, DRAWN_FRACTION, default_exaggeration, drawn_displacement
-from app.scene import rotate
-from app.trail import SAMPLES_PER_TURN, TRAIL_TURNS, largest_step, split_advance, turns_covered
+from app.engine import presets
+from app.engine.engine import Engine
+from app.engine.geometry import rotate
+from app.engine.mass_view import CAP_FRACTION, DRAWN_FRACTION, default_exaggeration, drawn_displacement
+from app.engine.trail import SAMPLES_PER_TURN, TRAIL_TURNS, largest_step, split_advance, turns_covered
+from app.scene.labels import LABEL_GAP, label_groups
+from app.scene.legend import entries, legend_markdown, parts_of
 
 TRAIL_STEP_MAX = 2 * math.pi / SAMPLES_PER_TURN * (1 + 1e-6)  # rad: one chord spans at most 1/24 of a turn
 DRAWN_LIMIT = 0.25  # the drawn displacement stays within this fraction of the body's size (DRAWN_FRACTION + dynamics)
@@ -80,7 +80,7 @@ def test_a_stopped_braking_torque_leaves_the_legend():
     assert "torque" in _keys(sc) and "torque" not in _keys(sc, braking=False)
 
 
-SIZE = 1.5  # scene units the body spans (app.drawing.SCENE_SIZE)
+SIZE = 1.5  # scene units the body spans (app.scene.drawing.SCENE_SIZE)
 
 
 def _arrows(angle_deg: float) -> dict[str, np.ndarray]:
@@ -127,7 +127,7 @@ def _trail_after(frames: int, warp: float, monkeypatch, split=True) -> tuple[np.
     """(trail points, K, the trail points' times, the cone's turn period) after ``frames`` frames at ``warp``.
     The times are read by wrapping the engine's trail feed (the trail itself keeps only points); the trail
     starts anew when it is cleared, as the engine does at high warp."""
-    import app.engine
+    import app.engine.engine
 
     times: list[np.ndarray] = []
     feed = Engine._extend_trail
@@ -140,7 +140,7 @@ def _trail_after(frames: int, warp: float, monkeypatch, split=True) -> tuple[np.
 
     monkeypatch.setattr(Engine, "_extend_trail", spy)
     if not split:
-        monkeypatch.setattr(app.engine, "split_advance", lambda dt, n, period: (dt, 0.0, 0))
+        monkeypatch.setattr(app.engine.engine, "split_advance", lambda dt, n, period: (dt, 0.0, 0))
     for _ in range(frames):
         e._advance(warp * FRAME_S)  # no wall-clock budget: each frame integrates warp / 60 simulated seconds
     fr = e.frame()
@@ -170,7 +170,7 @@ def test_at_1x_the_trail_is_the_continuous_history(monkeypatch):
 
 
 def test_at_1x_the_trail_fills_its_ring_and_no_more():
-    from app.engine import TRAIL_POINTS
+    from app.engine.engine import TRAIL_POINTS
 
     e = Engine(_free_top())
     for _ in range(TRAIL_POINTS // 4 + 50):

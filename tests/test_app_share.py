@@ -1,5 +1,5 @@
-"""Share codes (app/share.py), the page's script (app/share_link.py) and the Share folder with the browser's
-storage (app/share_panel.py), headless: a code reproduces the scenario bit for bit, every malformed code is
+"""Share codes (app/share/code.py), the page's script (app/share/link.py) and the Share folder with the browser's
+storage (app/share/panel.py), headless: a code reproduces the scenario bit for bit, every malformed code is
 refused with ShareCodeError naming what was wrong (fuzzed), and the last scene is written only when it
 changed, at most once per interval, and never before the stored one was read."""
 
@@ -16,8 +16,11 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import physics
-from app import controls, presets, share, share_link, share_panel
-from app.engine import Engine
+from app.engine import controls, presets
+from app.engine.engine import Engine
+from app.share import code as share
+from app.share import link as share_link
+from app.share import panel as share_panel
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from fake_gui import FakeGui, Handle  # noqa: E402

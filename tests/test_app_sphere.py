@@ -1,4 +1,4 @@
-"""The momentum sphere's numbers (app.sphere): polhodes on both the sphere and the energy ellipsoid, the
+"""The momentum sphere's numbers (app.engine.sphere): polhodes on both the sphere and the energy ellipsoid, the
 separatrix only for three different moments, K's path in body axes, the pure spins' energies."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import physics
-from app import sphere
+from app.engine import sphere
 
 ON_SURFACE_TOL = 1e-9  # |x|^2 - 1 and h(x) - h, dimensionless (unit sphere, h in 1/(kg m^2))
 ASYMMETRIC = (1.5, 1.0, 2.0)  # the flip preset's A, B, C
@@ -100,7 +100,7 @@ def test_pure_spin_energies():
 def test_the_engine_traces_K_in_body_axes_and_it_crosses_the_curves_towards_the_largest_axis():
     """The default scene (oblate, a dissipating mass): the path's frozen-body level h = 2E/|K|^2 falls towards
     1/C, the spin about e3; the path's last point is K now in body axes; hiding the sphere keeps tracing."""
-    from app.engine import Engine
+    from app.engine.engine import Engine
 
     eng = Engine()
     eng.warp = 10.0

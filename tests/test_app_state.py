@@ -1,4 +1,4 @@
-"""Headless checks of one tab's simulation state (app/state.py, app/controls.py, app/presets.py):
+"""Headless checks of one tab's simulation state (app/state.py, app/engine/controls.py, app/engine/presets.py):
 changes go through physics, bad input is rejected with the state kept, buffers stay bounded."""
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import physics
-from app import controls, presets
 from app.__main__ import parse
-from app.engine import WHOLE_RUN_POINTS
+from app.engine import controls, presets
+from app.engine.engine import WHOLE_RUN_POINTS
 from app.state import FRAME_HZ, PLOT_POINTS, SAMPLES_PER_FRAME, TRAIL_POINTS, Engine
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
@@ -87,7 +87,7 @@ def test_b_sets_the_braking_time_and_the_torque():
     assert e.readouts()["T"] == "no braking"
     e.request_value("control.b", 0.01)
     fr = e.tick(DT)
-    remaining = e.run.remaining_braking_time()  # from the present |K|: T = t + remaining (app.words)
+    remaining = e.run.remaining_braking_time()  # from the present |K|: T = t + remaining (app.engine.words)
     assert e.readouts()["T"] == f"{e.run.t + remaining:.6g} s" and math.isfinite(remaining)
     assert fr.torque_vec is not None and fr.torque_vec[2] < 0  # against K, which points up
     e.request_value("control.b", 0.0)
@@ -160,7 +160,7 @@ def test_buffers_stay_bounded():
     e = Engine()
     e.request("warp", 1000.0)
     ticks(e, (PLOT_POINTS + TRAIL_POINTS) // 4 + 50)
-    # at 1000x the trail is the cone's last turns alone (app.trail); it fills at 1x
+    # at 1000x the trail is the cone's last turns alone (app.engine.trail); it fills at 1x
     # (tests/test_app_scene_explains.py::test_at_1x_the_trail_fills_its_ring_and_no_more)
     assert len(e.plot) == PLOT_POINTS and 0 < len(e.trail) <= TRAIL_POINTS
     t, theta, over, K, E = e.plot_data("recent")
@@ -216,7 +216,7 @@ def test_cli_defaults():
 
 
 def test_server_starts_on_a_free_port_and_stops():
-    from app.server import App
+    from app.serve.server import App
 
     app = App(port=0)
     try:

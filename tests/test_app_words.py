@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 import physics
-from app import controls, presets, words
-from app.clock import MAX_FRAME_DT, WARP_WINDOW_S
-from app.engine import Engine
-from app.panel import EDITED, Panel
+from app.engine import controls, presets, words
+from app.engine.clock import MAX_FRAME_DT, WARP_WINDOW_S
+from app.engine.engine import Engine
+from app.panel.panel import EDITED, Panel
 
 DT = 1.0 / 60.0
 PAPERS_NUMBERING = re.compile(r"seed|lambda_1|mu D\^2", re.IGNORECASE)
@@ -155,7 +155,7 @@ def test_euler_angle_readouts_describe_the_attitude():
 
 
 def _body_in_view(eng: Engine) -> np.ndarray:
-    from app.scene import qmul
+    from app.engine.geometry import qmul
 
     return qmul(eng.world_wxyz, eng.run.last.quat[0])
 
@@ -286,7 +286,7 @@ def test_the_status_line_names_no_G():
 
 def test_a_keyed_step_is_dropped_when_a_focused_slider_took_the_arrow():
     """The page sends a focused slider's new value and the right arrow's command together, in either order."""
-    from app.playbar import STEP_DEFER_S, Playbar
+    from app.panel.playbar import STEP_DEFER_S, Playbar
 
     eng = Engine()
     bar = Playbar(_RecordingGui(), eng)
@@ -304,7 +304,7 @@ def test_a_keyed_step_is_dropped_when_a_focused_slider_took_the_arrow():
 def test_real_time_is_kept_only_while_it_is_affordable():
     """A scene too dear to integrate in real time (hundreds of plane pendulums) slows its clock rather than
     its frames: the real-time floor holds only up to FLOOR_BUDGET_S of wall time a frame (issue 17)."""
-    from app.clock import FLOOR_BUDGET_S, TICK_BUDGET_S, Clock
+    from app.engine.clock import FLOOR_BUDGET_S, TICK_BUDGET_S, Clock
 
     c = Clock(warp=1.0)
     c.probe = False

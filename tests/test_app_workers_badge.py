@@ -13,7 +13,7 @@ import threading
 import pytest
 
 import physics
-from app import workers
+from app.engine import workers
 from app.state import Engine
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")

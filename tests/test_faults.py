@@ -243,7 +243,7 @@ def test_a_chart_switch_keeps_the_motion_exactly():
 
 
 def test_the_app_draws_the_bob_in_the_chart_in_use():
-    from app.scene import spherical_bob
+    from app.engine.geometry import spherical_bob
     from physics.compiled import pendulum as kernel
 
     sc = _gimbal(0.0, samples=301)

@@ -12,7 +12,7 @@ import random
 import numpy as np
 import pytest
 
-from app import controls, presets
+from app.engine import controls, presets
 from app.state import FRAME_HZ, Engine
 
 pytestmark = [pytest.mark.filterwarnings("ignore::physics.ValidityWarning"),

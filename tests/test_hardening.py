@@ -134,7 +134,7 @@ def test_a_huge_key_is_echoed_shortened():
 
 
 def test_a_mesh_with_coordinates_too_large_for_its_inertia_is_refused(tmp_path):
-    from app.mesh import load_mesh
+    from app.engine.mesh import load_mesh
 
     s = 1e200
     path = tmp_path / "tet.obj"

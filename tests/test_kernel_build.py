@@ -140,7 +140,7 @@ PENDING_SESSION = """
 import sys
 from physics.kernels import build as kernel_build
 kernel_build._BUILD.state = kernel_build.PENDING  # as while the child builds
-from app.engine import Engine
+from app.engine.engine import Engine
 e = Engine()
 for _ in range(30):
     fr = e.tick(1 / 60)

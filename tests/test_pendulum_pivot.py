@@ -245,8 +245,8 @@ def test_cli_info_refuses_a_bad_pivot_with_one_line(tmp_path):
 
 
 def test_the_app_loads_an_uploaded_isotropic_scene_and_runs_it_past_the_pole():
-    from app.engine import Engine
-    from app.upload import parse_upload
+    from app.engine.engine import Engine
+    from app.engine.upload import parse_upload
 
     sc = parse_upload("pivot.toml", pole("isotropic", samples=31).to_toml().encode())
     assert sc.pendulum.pivot == "isotropic"

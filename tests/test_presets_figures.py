@@ -1,4 +1,4 @@
-"""The explorer's figure presets (assets/scenarios/figures, app/presets.py): one representative run of each
+"""The explorer's figure presets (assets/scenarios/figures, app/engine/presets.py): one representative run of each
 reproduced figure, written by ``python -m bench figures --presets`` from bench/figures.py::figure_presets.
 
 Each file must equal what the figure's own constructor builds (so the preset and the figure cannot drift),
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import physics
-from app import presets
+from app.engine import presets
 from bench import figures as F
 from physics import initial_G
 from physics.systems.moving_mass import closed as cf

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import physics
-from app.edit_report import LABEL
-from app.presets import load_preset
+from app.engine.edit_report import LABEL
+from app.engine.presets import load_preset
 from app.state import FRAME_HZ, Engine
 from physics.core.rotation import qmul, rotate
 from physics.stepping.live import LiveRun

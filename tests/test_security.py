@@ -18,7 +18,7 @@ from packaging.requirements import Requirement
 
 import physics
 from app import __main__ as app_main
-from app.upload import MAX_UPLOAD_BYTES, display_name, parse_upload
+from app.engine.upload import MAX_UPLOAD_BYTES, display_name, parse_upload
 
 ROOT = Path(__file__).resolve().parent.parent
 SOURCES = [p for d in ("physics", "app", "bench") for p in (ROOT / d).rglob("*.py")]
@@ -27,7 +27,7 @@ GOOD = (ROOT / "physics" / "data" / "default.toml").read_bytes()
 
 # ---- binding ----------------------------------------------------------------------------------------------
 def test_loopback_is_the_default():
-    from app.server import App
+    from app.serve.server import App
 
     assert app_main.parse([]).host == "127.0.0.1"
     assert inspect.signature(App).parameters["host"].default == "127.0.0.1"
@@ -59,11 +59,11 @@ def _serve(monkeypatch, capsys, argv, code=0):
     """app.__main__.main with the web server faked and the wait interrupted at once."""
     import viser
 
-    import app.server
+    import app.serve.server
 
     monkeypatch.setattr(viser, "ViserServer", _FakeServer)
-    monkeypatch.setattr(app.server, "App", _FakeApp)
-    monkeypatch.setattr(app.server, "warm_up", lambda: None)
+    monkeypatch.setattr(app.serve.server, "App", _FakeApp)
+    monkeypatch.setattr(app.serve.server, "warm_up", lambda: None)
 
     def interrupt(_seconds):
         raise KeyboardInterrupt
@@ -190,20 +190,20 @@ def test_nothing_a_browser_sends_opens_a_server_path(monkeypatch, action):
 
 # ---- meshes: command line only, validated ------------------------------------------------------------------
 def test_a_mesh_path_comes_only_from_the_command_line():
-    """A browser picks a shipped mesh by name (app/mesh.py asset_path); a file path is the command line's."""
-    server = (ROOT / "app" / "server.py").read_text()
+    """A browser picks a shipped mesh by name (app/engine/mesh.py asset_path); a file path is the command line's."""
+    server = (ROOT / "app" / "serve" / "server.py").read_text()
     assert "load_mesh(" not in server
     callers = {p.relative_to(ROOT).as_posix() for p in SOURCES if "load_mesh(" in p.read_text() and p.name != "mesh.py"}
-    assert callers <= {"app/__main__.py", "app/actions.py", "bench/figures.py"}, callers
-    if "app/actions.py" in callers:  # the GUI's mesh choice: only through the assets folder's names
-        state = (ROOT / "app" / "actions.py").read_text()
+    assert callers <= {"app/__main__.py", "app/engine/actions.py", "bench/figures.py"}, callers
+    if "app/engine/actions.py" in callers:  # the GUI's mesh choice: only through the assets folder's names
+        state = (ROOT / "app" / "engine" / "actions.py").read_text()
         assert state.count("load_mesh(") == state.count("load_mesh(path") and "path = meshes.asset_path(name)" in state
 
 
 @pytest.mark.parametrize("content", [b"", b"solid x\nfacet normal 0 0 1\n", b"\x00" * 300, b"v 1 2\nf 1 2 3\n",
                                      b"ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n"])
 def test_a_malformed_mesh_file_gives_a_clear_error(tmp_path, content):
-    from app.mesh import load_mesh
+    from app.engine.mesh import load_mesh
 
     path = tmp_path / "broken.stl"
     path.write_bytes(content)

@@ -12,12 +12,12 @@ import websockets
 from websockets.exceptions import InvalidStatus
 
 from app import __main__ as app_main
-from app.guard import refusal
+from app.serve.guard import refusal
 
 
 @pytest.fixture(scope="module")
 def port():
-    from app.server import App
+    from app.serve.server import App
 
     app = App(port=0)
     yield app.port

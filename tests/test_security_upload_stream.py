@@ -13,7 +13,7 @@ import pytest
 import viser
 from websockets.asyncio.client import connect
 
-from app.upload import MAX_UPLOAD_BYTES
+from app.engine.upload import MAX_UPLOAD_BYTES
 
 ROOT = Path(__file__).resolve().parents[1]
 PART = 1_000_000  # bytes a part: viser's browser client sends parts of about this size
@@ -25,7 +25,7 @@ def _msg(**fields) -> bytes:
 
 @pytest.fixture(scope="module")
 def app():
-    from app.server import App
+    from app.serve.server import App
 
     a = App(port=0)
     yield a

@@ -11,7 +11,7 @@ from physics.reference.problems import moving_mass
 pytest.importorskip("plotly")
 from fake_gui import FakeGui  # noqa: E402
 
-from app.speed_panel import NOTHING_YET, SpeedPanel, figure  # noqa: E402
+from app.studies.speed_panel import NOTHING_YET, SpeedPanel, figure  # noqa: E402
 
 ACCURACY = 1e-6  # rad, the scene's requested theta accuracy
 JOIN_S = 120.0  # the sweep thread must end well within this
@@ -82,7 +82,7 @@ def test_panel_module_uses_only_physics_exports():
     import ast
     from pathlib import Path
 
-    src = (Path(__file__).resolve().parents[1] / "app" / "speed_panel.py").read_text()
+    src = (Path(__file__).resolve().parents[1] / "app" / "studies" / "speed_panel.py").read_text()
     for node in ast.walk(ast.parse(src)):
         if isinstance(node, ast.ImportFrom) and node.module:
             assert not node.module.startswith("physics."), node.module

@@ -13,8 +13,8 @@ import physics
 pytest.importorskip("plotly")
 from fake_gui import FakeGui, Handle  # noqa: E402
 
-from app import sweep_panel  # noqa: E402
-from app.sweep_panel import NONE, SweepPanel  # noqa: E402
+from app.studies import sweep_panel  # noqa: E402
+from app.studies.sweep_panel import NONE, SweepPanel  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 

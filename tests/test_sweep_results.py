@@ -14,9 +14,10 @@ import physics
 pytest.importorskip("plotly")
 from fake_gui import FakeGui  # noqa: E402
 
-from app import presets, sweep_ranges, sweep_view  # noqa: E402
-from app.speed_panel import SpeedPanel  # noqa: E402
-from app.sweep_panel import SweepPanel, sweepable  # noqa: E402
+from app.engine import presets  # noqa: E402
+from app.studies import sweep_ranges, sweep_view
+from app.studies.speed_panel import SpeedPanel  # noqa: E402
+from app.studies.sweep_panel import SweepPanel, sweepable  # noqa: E402
 
 
 def _table(keys, axes, values, metric="decay_time", errors=None, base=None):
@@ -196,7 +197,7 @@ def test_speed_result_goes_stale_after_a_scene_change_and_cannot_be_applied():
 
 def test_speed_chart_leaves_room_legend_below_no_toolbar():
     result = _fake_work_precision(physics.default_scenario())
-    from app.speed_panel import figure
+    from app.studies.speed_panel import figure
 
     fig = figure(result)
     assert fig.layout.legend.orientation == "h" and fig.layout.legend.y < 0
@@ -210,7 +211,7 @@ def test_speed_chart_leaves_room_legend_below_no_toolbar():
 
 
 def test_sweep_board_is_opt_in_and_placed_in_front_of_the_body():
-    from app import sweep_board
+    from app.studies import sweep_board
 
     corner = np.array(sweep_board.BOARD_AT[:2])
     far = corner + sweep_board.BOARD_SIZE
@@ -227,7 +228,7 @@ def test_check_point_raises_what_the_point_s_run_would():
 
 
 def test_board_cells_colour_growth_red_and_the_fastest_decay_darkest():
-    from app.sweep_board import board_cells
+    from app.studies.sweep_board import board_cells
 
     values = [-106.0, 40.0, 12.0, 250_000.0, 30.0, 20.0]
     cells = board_cells(_table(["mass.Omega", "mass.chi"], [[2.5, 30.0], [1.0, 10.0, 30.0]], values))

@@ -174,7 +174,7 @@ def test_the_model_battery_runs_it():
 
 
 def test_the_explorer_lists_it_with_its_slider():
-    from app import controls
+    from app.engine import controls
 
     assert controls.SYSTEM_LABELS["body with a rotor"] == NAME
     assert "rotor.h" in controls.BY_KEY and NAME in controls.BY_KEY["rotor.h"].systems

@@ -1,0 +1,401 @@
+"""One tab's simulation: the scenario, the live run, the changes the GUI asked for, the buffers the plots
+and trails read. No viser here: headless tests drive it directly.
+
+Threads: GUI callbacks call ``request_value`` and ``request``, which only record under a lock; the
+session's loop thread calls ``tick``, which applies them (each action through ``ACTIONS``) and advances
+the run as far as the clock (``app.engine.clock``) allows. Mixed in: the actions (``app.engine.actions``), what the
+panel reads out and exports (``app.engine.output``), the frame (``app.engine.frame``) and the background workers
+(``app.engine.workers``: overlay and badge).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+import time
+
+import numpy as np
+
+import physics
+
+from . import controls, edits, parts, presets
+from .actions import ActionsMixin, pivot_of, with_choices
+from .buffers import (
+    EDITS_LISTED,
+    HISTORY_ROWS,
+    PLOT_POINTS,
+    RECENT,
+    RETUNES_KEPT,
+    SAMPLES_PER_FRAME,
+    TRAIL_POINTS,
+    VIEWS,
+    WHOLE_RUN,
+    WHOLE_RUN_POINTS,
+)
+from .clock import DEFAULT_WARP, FRAME_HZ, Clock
+from .compare import restart_compare
+from .frame import Frame, FrameMixin
+from .geometry import E3, Ring, Shape, align, body_shape
+from .history import DecimatingStore
+from .mass_view import default_exaggeration
+from .output import OutputMixin
+from .sphere import MomentumPath
+from .trail import split_advance, thinned
+from .trail import turn_period as cone_turn_period
+from .workers import BadgeMixin, OverlayMixin
+
+
+class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
+    """The simulation of one tab."""
+
+    def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
+        self._lock = threading.Lock()
+        self._pending: dict = {}
+        self._actions: list[str] = []
+        self.change_seq = 0  # bumped by every GUI change
+        self.applied_seq = 0  # the last change applied by tick
+        self.change_times: dict[int, float] = {}
+        self.value_requested_at = float("-inf")  # time.monotonic() of the last slider value requested
+        self.playing = True
+        self.restart_on_change = False
+        self.view = "inertial"
+        self.exaggeration = 10.0
+        self.bob: int | None = None  # plane pendulum the pendulum sliders edit (0-based); None = every bob
+        self.show_polhode = False
+        self.show_sphere = True  # the momentum sphere beside the body (app.scene.sphere_view)
+        self.sphere_path = MomentumPath()  # K's direction in body axes over the run (app.engine.sphere)
+        self._init_badge()
+        self._init_overlay()
+        self.error = ""
+        self.guard = edits.Guard()  # typed values judged, notes beside sliders, undo (app.engine.edits)
+        self.clock = Clock()
+        self._last_frame: Frame | None = None  # shown again, as a fault, if a state cannot be observed
+        self.frames = 0
+        self.seq = 0
+        self.wall_total = 0.0  # wall seconds spent in advance()
+        self.scene_changed = True  # the session redraws the static parts (shape, parts) when set
+        self.sliders_changed = True  # the session pushes slider values/ranges when set
+        self.plots_changed = True
+        self.plot_span = WHOLE_RUN
+        self.mesh = mesh  # app.engine.mesh.BodyMesh drawn instead of the uniform shape, until a preset is loaded
+        self.compare = None  # app.engine.compare.Comparison: a second run with one difference, on the same clock
+        name = "from file" if scenario is not None else preset
+        if mesh is not None:
+            name = f"mesh {mesh.name}"
+        self._load(scenario or presets.load_preset(preset), name)
+
+    # ---- requests from GUI callbacks (any thread) -------------------------------------------
+    def request_value(self, key: str, value, limits: tuple[float, float] | None = None) -> int:
+        """A slider's new value; ``limits``: the slider's (min, max) then (app.engine.edits clamps a value beyond them
+        and drops the browser's clamp echo). Pendulum sliders edit the bob chosen with the "bob" action."""
+        slider = key
+        key = controls.item_key(key, self.scenario.system, self.bob)  # a plane pendulum's bob chosen: that bob
+        with self._lock:
+            if not self.guard.received(slider, value, limits):
+                return self.change_seq  # the browser's own clamp of a value just judged: not the user's
+            self._pending[key] = value
+            self.value_requested_at = time.monotonic()  # app.panel.playbar drops a keyed step a focused slider took
+            return self._bump()
+
+    def request(self, action: str, value=None) -> int:
+        """Actions: play, pause, step, reset, warp, preset, system, fidelity, restart_on_change,
+        view, exaggeration, overlay, tune."""
+        with self._lock:
+            self._actions.append((action, value))
+            return self._bump()
+
+    def _bump(self) -> int:
+        self.change_seq += 1
+        self.change_times[self.change_seq] = time.perf_counter()
+        if len(self.change_times) > 1000:
+            for k in sorted(self.change_times)[:500]:
+                del self.change_times[k]
+        return self.change_seq
+
+    # ---- loading ---------------------------------------------------------------------------
+    def _load(self, sc: physics.Scenario, name: str) -> None:
+        run = physics.LiveRun(sc)  # raises ScenarioError before anything changes
+        self.guard.forget(sc, name)
+        self.base = sc
+        self.preset = name
+        self.changes: dict = {}
+        self.bob = None
+        self.values = controls.values_of(sc)
+        self.run = run
+        self.clock.warp = DEFAULT_WARP if name == presets.DEFAULT else presets.suggested_warp(sc)
+        self._adopt_choices(sc)
+        self._restarted()
+        self.exaggeration = self.default_exaggeration()  # the panel's slider follows (sliders_changed)
+
+    def _adopt_choices(self, sc: physics.Scenario) -> None:
+        """The panel's run-level choices (kept across slider edits, actions.with_choices) as ``sc`` has them."""
+        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = sc.run.fidelity, sc.run.accuracy, pivot_of(sc)
+
+    def default_exaggeration(self) -> float:
+        """The factor the mass's displacement is drawn with for this scene: a fraction of the body (mass_view)."""
+        m = self.scenario.mass
+        if m is None:
+            return self.exaggeration
+        return default_exaggeration(self.shape.extent, m.rho, m.Omega, float(np.linalg.norm(self.run.last.omega[0])))
+
+    def _restarted(self) -> None:
+        """Buffers and reference directions for a run that starts now (or was retuned)."""
+        self.plot = Ring(PLOT_POINTS, 4)
+        self.trail = Ring(TRAIL_POINTS, 3)
+        self.polhode = Ring(TRAIL_POINTS, 3)
+        self.sphere_path.clear()
+        self.plot_all = DecimatingStore(WHOLE_RUN_POINTS, 4)
+        self.history = DecimatingStore(HISTORY_ROWS, len(self.run.last.columns))
+        self.history_columns = self.run.last.columns
+        self.start_scenario = self.scenario  # what the run began from at t = 0 (the overlay predicts from it)
+        self.edits: list[tuple[float, str]] = []  # (t, what) of the first changes the run went on through
+        self.retunes: list[tuple[float, physics.Scenario]] = []  # (t, scenario) of every change the run went on
+        # through, for a replay of this run (app.replay.record); None once more than RETUNES_KEPT
+        self.edit_count = 0
+        self.shape = self._shape(self.scenario)
+        K0 = self.momentum()
+        self.world_wxyz = align(K0, E3) if np.linalg.norm(K0) > 0 else np.array([1.0, 0, 0, 0])
+        self.K_ref = float(np.linalg.norm(K0)) or 1.0
+        self.w_ref = float(np.linalg.norm(self.run.last.omega[0])) or 1.0
+        self._record(self.run.last)
+        self.overlay = None
+        self.overlay_dirty = True
+        self.clock.restart()
+        self.guard.epoch += 1  # buffers start anew: an undo to before this cannot rewind them
+        self.scene_changed = self.sliders_changed = self.plots_changed = True
+        self._drawn = None
+        self.edit_dE: float | None = None  # what the last edit did to E (J), shown until the next edit or reset
+        self.edit_note = ""  # why the last edit could not keep the state
+        restart_compare(self)  # the second run (compare mode) starts again with the first
+
+    def static_signature(self) -> tuple:
+        """What the static meshes depend on; the session redraws them when it changes."""
+        sc = self.scenario
+        return (self.shape, tuple(self.ellipsoid()), sc.mass.rho if sc.mass else None,
+                sc.cavity.a0 if sc.cavity else None, parts.bob_count(sc))
+
+    def mark_drawn(self) -> None:
+        self._drawn = self.static_signature()
+
+    def _shape(self, sc: physics.Scenario) -> Shape:
+        if self.mesh is not None:
+            v = self.mesh.vertices
+            return Shape("mesh", dims=tuple(float(x) for x in v.max(axis=0) - v.min(axis=0)))
+        return body_shape(sc.body.A, sc.body.B, sc.body.C, sc.body.M)
+
+    @property
+    def scenario(self) -> physics.Scenario:
+        return self.run.scenario
+
+    @property
+    def edited(self) -> bool:
+        """Whether the scene differs from the preset loaded (a slider, tuning, the fidelity, auto's accuracy, the
+        pivot): the panel then names the preset "(edited)", so choosing the preset again is a change that reloads it."""
+        return (bool(self.changes) or self.fidelity_choice != self.base.run.fidelity
+                or self.accuracy_choice != self.base.run.accuracy or self.pivot_choice != pivot_of(self.base))
+
+    # ---- applying changes (loop thread) -----------------------------------------------------
+    def _apply_pending(self) -> None:
+        with self._lock:
+            pending, self._pending = self._pending, {}
+            actions, self._actions = self._actions, []
+            seq = self.change_seq
+        try:
+            for action, value in actions:
+                self._act(action, value)
+                self.guard.interrupt()  # a value after an action starts a new change
+            self._apply_guarded(pending)
+            if actions or pending:
+                self.clock.changed()
+        except physics.ScenarioError as exc:
+            self.error = str(exc)
+        except Exception as exc:  # never let a bad input kill the loop
+            self.error = f"{type(exc).__name__}: {exc}"
+        self.applied_seq = seq
+
+    def _apply_guarded(self, pending: dict) -> None:
+        """Slider values through the guard (app.engine.edits): a value physics rejects is not applied and its
+        slider goes back to the last good value, one beyond the slider's range is clamped; each change is
+        saved for undo first."""
+        guard = self.guard
+        for key in guard.take_dropped():  # the browser shows a clamp echo that was not applied: set it back
+            guard.revert[key] = self.values[key]
+        if not pending:
+            return
+        accepted = guard.screen(self.base, self.changes, pending, self.values)
+        if accepted:
+            saved = guard.before_change(accepted, self)
+            try:
+                self._apply_values(accepted)
+            except Exception as exc:
+                guard.failed(accepted, saved, self.values, exc)
+                raise
+        if guard.rejections:
+            self.error = guard.rejections[-1]  # shown beside the slider (the panel omits it at the top)
+
+    def _apply_values(self, pending: dict) -> None:
+        changes = controls.merge_changes(self.changes, pending)
+        sc = controls.apply_changes(self.base, changes)  # ScenarioError leaves everything as it was
+        sc = with_choices(sc, self.fidelity_choice, self.accuracy_choice, self.pivot_choice)
+        restart = self.restart_on_change or controls.restarts(pending)
+        kept = self.run.retune(sc, keep_state=not restart)
+        self.changes = changes
+        for k, v in pending.items():
+            key, _, which = k.partition("#")
+            if not isinstance(v, str) and (not which or int(which) == (self.bob or 0)):
+                self.values[key] = v
+        if sc.pendulum is not None and isinstance(sc.pendulum.k, str):
+            self.values["pendulum.k"] = controls.values_of(sc)["pendulum.k"]  # "resonant" resolved: show the k
+            self.sliders_changed = True
+        self.error = ""
+        self.shape = self._shape(sc)
+        if self.static_signature() != self._drawn:
+            self.scene_changed = True  # redraw the meshes only when what they show has changed
+        self.overlay_dirty = True
+        if kept:  # the run goes on under other parameters: the plots and the export say so
+            self.log_retune(sc)
+            self.edit_count += 1
+            if len(self.edits) < EDITS_LISTED:
+                self.edits.append((self.run.t, _edit_names(pending)))
+        if not kept:
+            self._restarted()
+        self._note_edit(kept)
+
+    def log_retune(self, sc: physics.Scenario) -> None:
+        """Keep (t, scenario) of a change the run went on through, so that a replay can make it at the same t."""
+        if self.retunes is not None:
+            self.retunes = self.retunes + [(float(self.run.t), sc)] if len(self.retunes) < RETUNES_KEPT else None
+
+    def replay_retune(self, sc: physics.Scenario) -> None:
+        """Go on under ``sc`` from now, as a change made in a tab did (app.replay.record replays a tab's run)."""
+        kept = self.run.retune(sc, keep_state=True)
+        self._adopt_choices(sc)
+        self.shape = self._shape(sc)
+        self.scene_changed = self.overlay_dirty = True
+        if not kept:
+            self._restarted()
+
+    def _note_edit(self, kept: bool) -> None:
+        """Remember what the edit just applied did: the change of E when the state was carried (K and the
+        attitude kept, physics.carry_state), or why it restarted instead (a closed form has no state)."""
+        self.edit_dE = self.run.energy_change if kept else None
+        self.edit_note = self.run.edit_note
+        if kept:  # the new state's row, at the same t: the plots show E's step, and the readouts refresh
+            self._record(self.run.last)
+            if self.compare is not None:
+                self.compare.follow(self)  # the same edit, the difference kept (app.engine.compare)
+
+    # ---- the clock's figures, as attributes (scripts and tests set eng.warp) --------------------
+    @property
+    def warp(self) -> float:
+        return self.clock.warp
+
+    @warp.setter
+    def warp(self, value: float) -> None:
+        self.clock.warp = float(value)
+
+    @property
+    def achieved_warp(self) -> float:
+        return self.clock.achieved_warp
+
+    # ---- stepping ----------------------------------------------------------------------------
+    def tick(self, wall_dt: float) -> Frame:
+        """Apply pending changes, advance by warp * wall_dt (if playing) and return the frame."""
+        self._apply_pending()
+        if self.playing:
+            t0 = self.run.t
+            wall = self.clock.frame_wall(wall_dt)
+            self._advance(self.warp * wall, floor=wall)
+            self.clock.played(self.run.t - t0, max(wall_dt, 0.0))  # the wall time that passed, unclipped
+        else:
+            self.clock.paused()
+        if self.overlay is not None and self.run.t > self.overlay[0][-1]:
+            self.overlay_dirty = True  # the run has passed the prediction: predict again from now
+        if self.overlay_dirty:
+            self._compute_overlay()
+        self.frames += 1
+        try:
+            fr = self.frame()
+        except Exception as exc:  # a state the model cannot even observe (extreme values): a fault, never a crash
+            self.run.status = "fault"
+            self.run.message = f"the state cannot be shown ({type(exc).__name__}: {str(exc)[:120]}); undo or reset"
+            if self._last_frame is None:
+                raise
+            fr = dataclasses.replace(self._last_frame, status=self.run.status, message=self.run.message,
+                                     applied=self.applied_seq)
+        self._last_frame = fr
+        return fr
+
+    def _advance(self, dt: float, floor: float | None = None) -> None:
+        """Integrate dt simulated seconds. With a ``floor`` (a frame's wall seconds: playing), only as many
+        as TICK_BUDGET_S of wall time affords at the last measured rate (PROBE times fewer after a change,
+        whose cost is not known yet), but never less than real time."""
+        if dt <= 0 or (self.run.ended and self.compare is None):
+            return
+        if floor is not None:
+            dt = self.clock.allowance(dt, floor)
+        t0, start = self.run.t, time.perf_counter()
+        if self.compare is not None:  # the same simulated dt, timed with this run's: the budget counts both
+            self.compare.advance(dt)
+            if self.run.ended:  # this run braked or faulted: the second goes on alone
+                return
+        # beyond a few samples per turn of the cone, the frame's last turns are sampled densely for the trail
+        head, tail, tail_samples = split_advance(dt, SAMPLES_PER_FRAME, self.turn_period())
+        dense = None
+        try:
+            tr = self.run.advance(head, samples=SAMPLES_PER_FRAME - 1 if tail > 0 else SAMPLES_PER_FRAME
+                                  ) if head > 0 else None
+            if tail > 0 and not self.run.ended:
+                dense = self.run.advance(tail, samples=tail_samples)
+        except Exception as exc:  # a model error that is not an integrator status: report, stop
+            self.run.status, self.run.message = "fault", f"{type(exc).__name__}: {exc}"
+            return
+        spent = time.perf_counter() - start
+        self.wall_total += spent
+        self.clock.measured(self.run.t - t0, spent)
+        if tr is not None and len(tr):
+            self._record(tr, trail_too=dense is None or not len(dense))
+        if dense is not None and len(dense):
+            self.trail.clear()  # the trail is the last turns alone: older samples are too far apart to join
+            self._extend_trail(dense)
+            self._record(thinned(dense, 1 if tr is not None else SAMPLES_PER_FRAME), trail_too=False)
+
+    def turn_period(self) -> float:
+        """Seconds the trail's point takes to go once round the cone, at the fastest (app.engine.trail)."""
+        b, last = self.scenario.body, self.run.last
+        return cone_turn_period(b.A, b.B, float(last.K[0]), float(np.linalg.norm(last.omega[0])))
+
+    def _extend_trail(self, tr: physics.Trajectory) -> None:
+        for q in tr.quat:
+            self.trail.extend(self._trail_point(q))
+        self.sphere_path.extend(tr.quat, self.momentum())  # the same samples: a path that joins up at any warp
+
+    def _record(self, tr: physics.Trajectory, trail_too: bool = True) -> None:
+        rows = np.column_stack([tr.t, tr.theta, tr.K, tr.E])
+        self.plot.extend(rows)
+        self.plot_all.extend(rows)
+        if tr.columns == self.history_columns:
+            self.history.extend(tr.table())
+        if trail_too:
+            self._extend_trail(tr)
+        if self.show_polhode:
+            self.polhode.extend(self._polhode_points(tr.omega))
+        self.plots_changed = True
+
+    def plot_window(self) -> float:
+        """Simulated seconds the plots show at the present warp."""
+        return PLOT_POINTS / (SAMPLES_PER_FRAME * FRAME_HZ) * self.warp
+
+
+def _edit_names(pending: dict) -> str:
+    """The sliders a change moved, by their labels ("m (kg)"; "l (m) of bob 2")."""
+    names = []
+    for k in sorted(pending):
+        key, _, which = k.partition("#")
+        p = controls.BY_KEY.get(key)
+        names.append((p.label if p is not None else key) + (f" of bob {int(which) + 1}" if which else ""))
+    return ", ".join(names)
+
+
+__all__ = ["EDITS_LISTED", "HISTORY_ROWS", "PLOT_POINTS", "RECENT", "SAMPLES_PER_FRAME", "TRAIL_POINTS", "VIEWS",
+           "WHOLE_RUN", "WHOLE_RUN_POINTS", "Engine", "Frame"]

@@ -1,0 +1,269 @@
+"""The engine's background workers: the cheaper fidelity's prediction (the overlay) and auto's badge.
+Each runs in a daemon thread, so a long computation never stalls the frames; a newer request makes an
+older overlay give up, and the badge is worked out once per scenario. When the tab closes
+(``cancel_workers``) both stop, so nothing of a closed tab keeps a core busy.
+
+Mixed into ``app.engine.engine.Engine``: they read its ``scenario``, ``start_scenario``, ``edits``, ``run`` and
+``plot_window()`` and set its
+``overlay``, ``error`` and ``plots_changed``.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import threading
+import warnings
+
+import numpy as np
+
+import physics
+
+from . import words
+
+OVERLAYS = ("none", "averaged", "closed")  # the overlay dropdown's choices: a cheaper prediction, or none
+OVERLAY_SAMPLES = 2000  # from t = 0 to OVERLAY_WINDOWS times now: smooth models, interpolated linearly
+OVERLAY_WINDOWS = 2.0  # a prediction reaches this many times as far as the run has come
+
+
+def _envelope(sc: physics.Scenario, fid: str) -> bool:
+    """Whether the "closed" overlay is linear theory's envelope (``physics.derived``'s decay_rate_linear): for a
+    system with no closed-form model (the pendulums)."""
+    return fid == "closed" and "closed" not in physics.get_system(sc.system).models
+
+
+class OverlayMixin:
+    """The overlay: ``overlay`` is (t, theta) or None; ``overlay_fidelity`` "none", "averaged" or "closed"."""
+
+    def _init_overlay(self) -> None:
+        self.overlay_fidelity = "none"
+        self.overlay = None
+        self.overlay_dirty = True
+        self._overlay_thread: threading.Thread | None = None
+        self._overlay_gen = 0
+        self._overlay_key = None  # (fidelity, start scenario) of the prediction shown
+
+    def _compute_overlay(self) -> None:
+        """Start computing the cheaper fidelity's prediction in a background thread: a long prediction must
+        not stall the frames. A newer request cancels an older one.
+
+        The prediction starts at t = 0 from the scenario the run began with (``start_scenario``), so it
+        lies on the same axes as the run's whole history; ``overlay_title`` says so, and names the edits
+        the run went on through since. It reaches OVERLAY_WINDOWS times as far as the run has come (at
+        least a plot window ahead), so it is computed again only each time the run doubles its t.
+        Moving mass and the spherical pendulum: the fidelity's own model; both pendulum systems,
+        "closed": linear theory's envelope theta0 exp(-rate t) (MODELS B.4)."""
+        if self._overlay_thread is not None and self._overlay_thread.is_alive():
+            self._overlay_gen += 1  # cancel it; overlay_dirty stays set, so a later tick starts anew
+            return
+        self.overlay_dirty = False
+        fid = self.overlay_fidelity
+        key = (fid, self.start_scenario)
+        if key != self._overlay_key:  # another prediction: the old one must not show meanwhile
+            self.overlay = None
+            self.plots_changed = True
+        elif self.overlay is not None and self.overlay[0][-1] >= self.run.t:
+            return  # an edit that kept the run: the prediction from t = 0 is the same
+        self._overlay_key = key
+        self._overlay_gen += 1
+        if fid == "none":
+            return
+        sc = self.start_scenario
+        t_end = max(OVERLAY_WINDOWS * self.run.t, self.run.t + self.plot_window(), 1.0)
+        envelope = _envelope(sc, fid)
+        try:
+            if not envelope:
+                sc = sc.with_values(**{"run.t_end": t_end, "run.samples": OVERLAY_SAMPLES})
+        except (physics.ScenarioError, ValueError) as exc:
+            self.error = f"overlay ({fid}): {exc}"
+            return
+        gen = self._overlay_gen
+
+        def progress(_fraction):
+            if gen != self._overlay_gen:  # chunks between compiled calls: the place to give up
+                raise _Cancelled
+
+        def work():
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", physics.ValidityWarning)
+                    if envelope:  # the analysis is bounded but can take a second: never on the loop thread
+                        d = physics.derived(sc)
+                        t = np.linspace(0.0, t_end, OVERLAY_SAMPLES)
+                        result = (t, d["theta0"] * np.exp(-float(d["decay_rate_linear"]) * t))
+                    else:
+                        tr = physics.simulate(sc, fidelity=fid, progress=progress)
+                        result = (tr.t, tr.theta)
+            except _Cancelled:
+                return
+            except (physics.ScenarioError, physics.IntegrationFault, ArithmeticError, ValueError) as exc:
+                if gen == self._overlay_gen:
+                    self.error = f"overlay ({fid}): {exc}"
+                return
+            except Exception as exc:  # noqa: BLE001 - a worker thread must say what failed, never print a traceback
+                if gen == self._overlay_gen:
+                    self.error = f"overlay ({fid}) failed: {type(exc).__name__}: {str(exc)[:200]}"
+                return
+            if gen == self._overlay_gen:
+                self.overlay = result
+                self.plots_changed = True
+
+        self._overlay_thread = threading.Thread(target=work, name="overlay", daemon=True)
+        self._overlay_thread.start()
+
+    def overlay_title(self) -> str:
+        """The prediction chart's title: which model, from when, and what the run did that it does not know."""
+        fid = self.overlay_fidelity
+        if _envelope(self.start_scenario, fid):
+            what = "linear theory's envelope"
+        else:
+            what = f"the {fid} model's prediction"
+        title = f"theta and {what} from t = 0"
+        if self.edit_count:
+            t0, names = self.edits[0]
+            more = f" and {self.edit_count - 1} more" if self.edit_count > 1 else ""
+            title += f", for the scene at t = 0 (edited since: {names} at t = {t0:.4g} s{more})"
+        return title
+
+    def cancel_workers(self) -> None:
+        """The tab closed: a prediction being computed gives up at its next chunk, and the badge's analysis
+        stops (``BadgeMixin.cancel_badge``; the Engine mixes in both)."""
+        self._overlay_gen += 1
+        self.overlay_dirty = False
+        self.cancel_badge()
+
+    def wait_overlay(self, timeout: float = 30.0) -> bool:
+        """Block until the overlay being computed is done (for tests and scripts)."""
+        if self._overlay_thread is not None:
+            self._overlay_thread.join(timeout)
+        return self.overlay is not None
+
+    @property
+    def has_overlay(self) -> bool:
+        return self.overlay is not None
+
+
+class BadgeMixin:
+    """Auto's badge, cached per scenario: ``badge()`` returns markdown at once (a placeholder until ready)."""
+
+    def _init_badge(self) -> None:
+        self._badge: tuple | None = None  # (scenario, markdown, details' markdown) of the last badge
+        self._badge_busy = False
+        self._badge_thread: threading.Thread | None = None
+        self._badge_stop: BadgeStop | None = None  # the running badge's cancellation
+
+    def badge(self, block: bool = False) -> str:
+        """Auto's choice (model, method, error bound against the requested accuracy, and why) and the
+        averaged model's validity conditions, as markdown. Computed once per scenario, in a background
+        thread (up to 0.4 s for three plane pendulums: the frames go on meanwhile); until it is ready,
+        a placeholder. ``block``: wait for it instead."""
+        sc = self.scenario
+        done = self._badge
+        if done is not None and done[0] is sc:
+            return done[1]
+        if block:
+            self._badge = (sc, *_badge_text(sc))
+            return self._badge[1]
+        with self._lock:
+            start = not self._badge_busy
+            self._badge_busy = True
+        if start:
+            self._badge_stop = stop = BadgeStop()
+            self._badge_thread = threading.Thread(target=self._badge_worker, args=(sc, stop), name="badge",
+                                                  daemon=True)
+            self._badge_thread.start()
+        return "_auto: working out its choice..._"
+
+    def _badge_worker(self, sc: physics.Scenario, stop: BadgeStop) -> None:
+        try:
+            text = _badge_text(sc, stop)
+            if not stop.is_set():  # a cancelled badge is for a closed tab: nothing to show it to
+                self._badge = (sc, *text)
+        except BadgeCancelled:
+            pass
+        finally:
+            self._badge_busy = False  # the next call starts another if the scenario has changed since
+
+    def cancel_badge(self) -> None:
+        """Stop the badge being worked out (its tab closed): the physics call in progress is interrupted and
+        no further one starts, so a slow analysis (many plane pendulums) does not keep a core busy."""
+        stop = self._badge_stop
+        if stop is not None:
+            stop.set()
+
+    def badge_details(self) -> str:
+        """The averaged model's conditions as formulas with their values (the Details folder), once the
+        badge of the present scenario is ready; "" until then."""
+        done = self._badge
+        return done[2] if done is not None and done[0] is self.scenario else ""
+
+
+class _Cancelled(Exception):
+    """A newer overlay request replaced this one."""
+
+
+def _badge_text(sc: physics.Scenario, stop: BadgeStop | None = None) -> tuple[str, str]:
+    """(the badge in words, the conditions' formulas): app.engine.words.badge_parts. With ``stop``, each of its three
+    units of work runs under it, so a cancel raises BadgeCancelled (not an Exception: it is not a failure to
+    report as "unavailable")."""
+    run = stop.run if stop is not None else (lambda fn, *args: fn(*args))
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            d = run(physics.derived, sc)
+            conds = run(physics.validity_conditions, sc)
+    except Exception as exc:  # never let the badge break a frame
+        return f"auto: unavailable ({exc})", ""
+    return run(words.badge_parts, d, conds)
+
+
+class BadgeCancelled(BaseException):
+    """The badge's tab closed. A BaseException, so that neither physics' fault handling (``guarded``) nor the
+    badge's own ``except Exception`` turns it into a message."""
+
+
+class BadgeStop:
+    """A badge's cancellation, checked before each unit of work (``run``) and interrupting the unit in progress.
+
+    ``physics.derived`` has no progress or cancel hook, and on many plane pendulums its linear theory runs for a
+    second or more in Python (1.1 s for 24 bobs). So ``set`` raises
+    BadgeCancelled in the thread running a unit (CPython's PyThreadState_SetAsyncExc: it fires at that thread's
+    next bytecode boundary, once a numpy call in progress returns). It is sent only while the thread is inside
+    ``run`` (under the lock), and ``run`` clears any still pending as it leaves, so it never fires outside the
+    worker's handler."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._set = False
+        self._inside: int | None = None  # the thread id running a unit, if any
+        self.interrupts = 0  # how many units were interrupted in progress (for tests)
+
+    def is_set(self) -> bool:
+        return self._set
+
+    def set(self) -> None:
+        with self._lock:
+            if self._set:  # one interrupt at most: a second could reach a later thread given the same id
+                return
+            self._set = True
+            if self._inside is not None and _async_raise(self._inside, BadgeCancelled):
+                self.interrupts += 1
+
+    def run(self, fn, *args):
+        """fn(*args), unless cancelled before or during it (BadgeCancelled)."""
+        with self._lock:
+            if self._set:
+                raise BadgeCancelled
+            self._inside = threading.get_ident()
+        try:
+            return fn(*args)
+        finally:
+            with self._lock:
+                self._inside = None
+                _async_raise(threading.get_ident(), None)  # an interrupt sent as fn returned: drop it
+
+
+def _async_raise(thread_id: int, exc: type[BaseException] | None) -> bool:
+    """Raise ``exc`` in thread ``thread_id`` at its next bytecode boundary (None: clear a pending one).
+    True if a thread was found."""
+    return ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(thread_id),
+                                                      ctypes.py_object(exc) if exc is not None else None) == 1

@@ -1,0 +1,66 @@
+"""The message beside the control that caused it: a note placed right under its slider, inside the slider's
+folder, where the eye already is (the top of the panel is a screen away from most sliders at 1400x900).
+A fault's note carries its way out: "Undo the last change" and "Reset the scene" buttons under it.
+
+viser orders a container's elements by ``order`` (a float; by default a global counter, so consecutive
+elements differ by at least 1): a note at the slider's order + 0.25 sits between it and the next control.
+"""
+
+from __future__ import annotations
+
+from ..engine.edits import Note
+
+COLORS = {"rejected": "#c00", "fault": "#c00", "clamped": "#a15c00"}
+UNDO_LABEL = "Undo the last change"
+RESET_LABEL = "Reset the scene"
+
+
+class NotePlace:
+    """Shows one Note at a time. ``folder_of``: slider key -> its folder handle; ``top_order``: where a note
+    about no slider (or a hidden one) goes, under the panel's status; ``undo``/``reset``: the buttons'
+    actions. Called from the session's loop thread only."""
+
+    def __init__(self, gui, sliders: dict, folder_of: dict, top_order: float, undo, reset):
+        self.gui, self.sliders, self.folder_of, self.top_order = gui, sliders, folder_of, top_order
+        self.undo, self.reset = undo, reset
+        self.shown: tuple | None = None
+        self.handles: list = []
+
+    def show(self, note: Note | None, can_undo: bool) -> None:
+        want = None if note is None else (self._anchor(note.key), note.kind, note.text, can_undo)
+        if want == self.shown:
+            return  # each element sent costs a message: only a change is sent
+        for h in self.handles:
+            h.remove()
+        self.handles, self.shown = [], want
+        if note is None:
+            return
+        key = want[0]
+        if key is None:
+            self._add(None, self.top_order, note, can_undo)
+        else:
+            with self.folder_of[key]:
+                self._add(key, self.sliders[key].order, note, can_undo)
+
+    def _anchor(self, key: str | None) -> str | None:
+        """The slider the note goes under, or None (the top) when it is absent, disabled or hidden."""
+        if key is None or key not in self.sliders or key not in self.folder_of:
+            return None
+        if self.sliders[key].disabled or not self.folder_of[key].visible:
+            return None
+        return key
+
+    def _add(self, key, order: float, note: Note, can_undo: bool) -> None:
+        gui = self.gui
+        text = f"<span style='color:{COLORS.get(note.kind, '#c00')}'>{note.text}</span>"
+        self.handles.append(gui.add_markdown(text, order=order + 0.25))
+        if note.kind != "fault":
+            return
+        if can_undo:
+            b = gui.add_button(UNDO_LABEL, color="red", order=order + 0.26,
+                               hint="the parameters and the run's state of just before the last change")
+            b.on_click(lambda _e: self.undo())
+            self.handles.append(b)
+        b = gui.add_button(RESET_LABEL, order=order + 0.27, hint="this scene's parameters as loaded, from t = 0")
+        b.on_click(lambda _e: self.reset())
+        self.handles.append(b)

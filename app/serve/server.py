@@ -1,0 +1,104 @@
+"""The viser server: one Session (its own simulation, controls and scene: ``app.serve.session``) per browser tab,
+and what happens when a tab connects or closes.
+"""
+
+from __future__ import annotations
+
+import gc
+import threading
+import time
+import traceback
+import warnings
+from collections import deque
+
+import viser
+
+import physics
+
+from .session import Session
+
+__all__ = ["App", "Session", "warm_up"]
+
+
+class App:
+    """The server and its sessions."""
+
+    def __init__(self, host: str = "127.0.0.1", port: int = 8080, scenario: physics.Scenario | None = None,
+                 mesh=None, server: viser.ViserServer | None = None):
+        """``server``: one already serving (``python -m app`` starts it before loading the physics, so a
+        browser fetches the page meanwhile); tabs that connected before are served now."""
+        self.scenario = scenario
+        self.mesh = mesh
+        # a tab's last frame can race its disconnection; viser then warns that the message is dropped
+        warnings.filterwarnings("ignore", message="Queued a .* on a closed connection")
+        if server is None:
+            from .guard import configure
+
+            configure(host)  # before the server starts: same-origin browsers and this host's name only
+            from ..share.link import install as share_links
+
+            share_links()  # the page hands its address and a link's scene to the tab (app.share.link)
+        self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
+        self.sessions: dict[int, Session] = {}
+        self.stats: dict = {}
+        # (client id, frames its session published) of the last closed tabs: bench/load.py compares them
+        # with what each client received; bounded, so a server up for days keeps no record per tab
+        self.closed_frames: deque[tuple[int, int]] = deque(maxlen=1000)
+        self.server.on_client_connect(self._connect)
+        self.server.on_client_disconnect(self._disconnect)
+
+    def _connect(self, client: viser.ClientHandle) -> None:
+        try:
+            self.sessions[client.client_id] = Session(self.server, client, self.scenario, self.stats, self.mesh)
+            self.stats["sessions"] = len(self.sessions)
+            self.stats["opened"] = self.stats.get("opened", 0) + 1
+        except Exception:
+            traceback.print_exc()
+
+    def _disconnect(self, client: viser.ClientHandle) -> None:
+        s = self.sessions.pop(client.client_id, None)
+        self.stats["sessions"] = len(self.sessions)
+        if s is not None:
+            s.close()
+            self.stats["closed"] = self.stats.get("closed", 0) + 1
+            self.closed_frames.append((client.client_id, s.published))
+            # A closed session is cyclic garbage (the client's GUI handles hold our callbacks, which close
+            # over the session), which only a full collection frees; CPython runs one only after the
+            # long-lived objects grow by a quarter (~35k here), so each reconnection kept its ~3 MB for
+            # dozens of reconnections. viser holds the client handle until this callback returns: collect
+            # from another thread, once the session's loop has ended and viser has let go.
+            threading.Thread(target=_collect_closed, args=(s.thread,), name="collect-session", daemon=True).start()
+
+    @property
+    def port(self) -> int:
+        return self.server.get_port()
+
+    def close(self) -> None:
+        for s in list(self.sessions.values()):
+            s.close()
+        self.server.stop()
+
+
+def _collect_closed(loop: threading.Thread, delay: float = 1.0) -> None:
+    """Free a closed session (see App._disconnect) and hand its memory back to the system."""
+    loop.join(timeout=5.0)  # its frame holds the session until the loop ends
+    time.sleep(delay)  # viser's disconnect handling drops its last reference to the client handle
+    gc.collect()  # a full collection: the session's objects have long reached the oldest generation
+    _trim_heap()
+
+
+def _trim_heap() -> None:
+    """Hand freed memory back to the system after a tab's session is freed: glibc keeps its buffers
+    otherwise (docs/reliability.md). Elsewhere than glibc this does nothing."""
+    try:
+        import ctypes
+
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
+
+
+def warm_up() -> None:
+    """Load (or compile) the integrator and the kernels once, so the first tab is quick."""
+    run = physics.LiveRun(physics.default_scenario())
+    run.advance(0.01)

@@ -1,0 +1,103 @@
+"""One browser tab: its engine, panel and scene, and the loop thread that owns the engine. The loop applies
+what the GUI callbacks recorded, integrates as finely as the integrator needs (LiveRun.advance) and
+publishes about 60 frames per second inside ``client.atomic()``. Nothing a user does can end the loop.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+import traceback
+from collections import deque
+
+import viser
+
+import physics
+
+from ..engine.clock import FRAME_HZ, PLOT_HZ
+from ..engine.engine import Engine
+from ..panel.panel import Panel
+from ..scene.drawing import Drawing
+from .upload_cap import cap_streamed_uploads
+
+CROWD = 4  # tabs on one server beyond which each gets CROWD_HZ frames per second instead of FRAME_HZ
+CROWD_HZ = 40.0  # still smooth, and ten tabs fit one core's worth of Python (docs/reliability.md)
+CROWD_PLOT_HZ = 5.0  # plots, readouts and trails of a crowd: their arrays are the heavy part of a frame
+
+
+class Session:
+    """One browser tab."""
+
+    def __init__(self, server: viser.ViserServer, client: viser.ClientHandle, scenario: physics.Scenario | None,
+                 stats: dict, mesh=None):
+        self.server = server
+        self.client = client
+        self.stats = stats
+        # brief: on a machine without the compiled kernels the scene starts on their interpreted twins at once
+        note = client.gui.add_markdown("**Quasirigid explorer** · preparing the scene...")
+        try:
+            self.engine = Engine(scenario, mesh=mesh)
+        finally:
+            note.remove()
+        self.stop = threading.Event()
+        self.published = 0
+        self.first_frame_after: dict[int, float] = {}  # change seq -> latency (s) of its first frame
+        self.frame_ms: deque = deque(maxlen=600)  # (tick, publish) wall ms of recent frames
+        # a server started on a scenario or mesh of its own shows that, not the browser's last scene
+        self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None)
+        cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
+        self.drawing = Drawing(client, self.engine)
+        self.thread = threading.Thread(target=self._loop, name=f"session-{client.client_id}", daemon=True)
+        self.thread.start()
+
+    def _refuse_upload(self, message: str) -> None:
+        self.engine.error = message  # shown beside the upload button's panel as any rejection is
+
+    def _publish(self, fr, plots_now: bool) -> None:
+        with self.client.atomic():
+            self.drawing.update(fr, plots_now)
+            self.panel.update(fr, plots_now)
+
+    def _loop(self) -> None:
+        last = deadline = time.perf_counter()
+        next_plot = 0.0
+        while not self.stop.is_set():
+            now = time.perf_counter()
+            dt, last = now - last, now
+            try:
+                fr = self.engine.tick(dt)
+                ticked = time.perf_counter()
+                plots_now = now >= next_plot
+                if plots_now:
+                    crowded = self.stats.get("sessions", 1) > CROWD
+                    next_plot = now + 1.0 / (CROWD_PLOT_HZ if crowded else PLOT_HZ)
+                self._publish(fr, plots_now)
+                self.frame_ms.append((1e3 * (ticked - now), 1e3 * (time.perf_counter() - ticked)))
+                self.published += 1
+                self.stats["frames"] = self.stats.get("frames", 0) + 1
+                done = time.perf_counter()
+                for seq, t0 in list(self.engine.change_times.items()):
+                    if seq <= fr.applied and seq not in self.first_frame_after:
+                        self.first_frame_after[seq] = done - t0
+                        del self.engine.change_times[seq]
+            except Exception:  # never let one bad frame end the tab's simulation
+                if self.stop.is_set():
+                    break
+                self.engine.error = "internal error: " + traceback.format_exc(limit=1).strip().splitlines()[-1]
+                traceback.print_exc()
+                time.sleep(0.2)
+            # a fixed schedule, so the rate does not drift; many tabs share the GIL, so a crowd gets fewer frames
+            deadline += 1.0 / (FRAME_HZ if self.stats.get("sessions", 1) <= CROWD else CROWD_HZ)
+            sleep = deadline - time.perf_counter()
+            if sleep > 0:
+                self.stop.wait(sleep)
+            else:
+                deadline = time.perf_counter()  # behind (a slow frame): do not try to catch up
+
+    def close(self) -> None:
+        """The tab closed: the loop ends at its next turn, and a prediction being computed gives up at its next
+        chunk (physics.simulate's progress callback), so nothing of the tab keeps a core busy."""
+        self.stop.set()
+        self.engine.cancel_workers()
+
+

@@ -1,0 +1,97 @@
+"""How a tab's address reaches the server: a link ``http://HOST:PORT/?scene=CODE`` and the page's own URL.
+
+viser passes no URL parameter to Python (its websocket handshake asks for ``/`` whatever the page's query), but
+it lets the server read the browser's storage (``client.local_storage``, viser 1.1). So the page viser serves
+gets a few lines of script, run before viser's client starts, that copy the page's address and its ``scene``
+parameter into that storage, under viser's prefix for the keys it reads; the session reads them when the tab
+connects (``app.share.panel``). The script is the same text for every request: nothing from the request is
+written into the page, so a crafted address cannot inject markup.
+
+Like ``app.serve.guard``, this wraps ``websockets.asyncio.server.serve`` once, before the server starts, and changes
+only the HTML page viser returns (whatever wraps the same function, the guard's refusals pass through as they
+are).
+"""
+
+from __future__ import annotations
+
+import gzip
+import threading
+
+STORAGE_PREFIX = "viser-user:"  # viser 1.1's prefix for the keys client.local_storage reads (read in a browser)
+PAGE_KEY = "quasirigid.page"  # the page's own address (origin and path), for the link the Share button shows
+LINK_KEY = "quasirigid.link"  # the scene parameter of the address the tab was opened with
+MAX_LINK_CHARS = 100_000  # what the script copies of a scene parameter (app.share.code.MAX_CODE_CHARS)
+
+SCRIPT = f"""<script>/* Quasirigid (app/share/link.py): the page's address and its scene parameter, for the server */
+(function () {{
+  try {{
+    var s = window.localStorage, code = new URLSearchParams(window.location.search).get("scene");
+    s.setItem("{STORAGE_PREFIX}{PAGE_KEY}", window.location.origin + window.location.pathname);
+    if (code !== null) s.setItem("{STORAGE_PREFIX}{LINK_KEY}", code.slice(0, {MAX_LINK_CHARS}));
+  }} catch (e) {{}}
+}})();
+</script>""".encode()
+
+_lock = threading.Lock()
+_installed = False
+_pages: dict[tuple[int, bool], bytes] = {}  # (id of viser's cached page, gzipped) -> the page with the script
+
+
+def with_script(html: bytes) -> bytes:
+    """viser's page with SCRIPT at the start of its head, so it runs before the client's own script."""
+    head = html.find(b"<head>")
+    at = head + len(b"<head>") if head >= 0 else 0
+    return html[:at] + SCRIPT + html[at:]
+
+
+def _page_response(response):
+    """viser's response with the script in its HTML page; any other response as it is."""
+    from websockets.datastructures import Headers
+    from websockets.http11 import Response
+
+    if response is None or getattr(response, "status_code", None) != 200:
+        return response
+    headers = response.headers
+    if not str(headers.get("Content-Type", "")).startswith("text/html"):
+        return response
+    gzipped = headers.get("Content-Encoding", "") == "gzip"
+    key = (id(response.body), gzipped)  # viser keeps one bytes object per file: its id names the page
+    with _lock:
+        body = _pages.get(key)
+        if body is None:
+            html = gzip.decompress(response.body) if gzipped else bytes(response.body)
+            body = with_script(html)
+            body = gzip.compress(body) if gzipped else body
+            if len(_pages) > 8:  # a handful of pages at most; bounded all the same
+                _pages.clear()
+            _pages[key] = body
+    out = Headers()
+    for name, value in headers.raw_items():
+        if name.lower() != "content-length":
+            out[name] = value
+    out["Content-Length"] = str(len(body))
+    return Response(200, response.reason_phrase, out, body)
+
+
+def install() -> None:
+    """Wrap websockets' server factory, so the servers made afterwards serve the page with the script."""
+    global _installed
+    with _lock:
+        if _installed:
+            return
+        import websockets.asyncio.server as ws_server
+
+        original = ws_server.serve
+
+        def serve(handler, *args, process_request=None, **kwargs):
+            def with_page(connection, request):
+                response = process_request(connection, request) if process_request is not None else None
+                return _page_response(response)
+
+            return original(handler, *args, process_request=with_page, **kwargs)
+
+        ws_server.serve = serve
+        _installed = True
+
+
+__all__ = ["LINK_KEY", "PAGE_KEY", "SCRIPT", "STORAGE_PREFIX", "install", "with_script"]

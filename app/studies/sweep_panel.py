@@ -1,0 +1,279 @@
+"""The sweep panel: pick one or two sliders, their ranges and a metric; the sweep runs in the background
+on local worker processes (physics.sweep), with a progress bar, then shows the curve or heat map.
+
+The controls sit in the panel's folder; the result (the best point, the chart, the points best first with
+"Load this point") goes to a tab of the movable results window (results_window.py), where the chart has
+room. Default ranges are valid scenes at every point (sweep_ranges.py); "best" follows the metric's goal
+and the colours cope with outliers (sweep_view.py); when the scene changes other than by loading one of
+the sweep's points, the result is marked stale (``scene_changed``). viser's plotly chart reports no
+clicks, so the points can also be drawn as clickable cells in the 3-D scene (sweep_board.py, opt-in).
+Nothing here raises into viser: a failed sweep or an invalid point becomes a message in the panel.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import threading
+from collections.abc import Callable
+
+import physics
+
+from ..engine import controls
+from . import results_window, sweep_view
+from .stale import same_scene
+from .sweep_board import BOARD_MAX, SweepBoard
+from .sweep_ranges import box_precision, box_step, default_range, scenario_key
+
+NONE = "(none)"
+NO_POINTS = "(run a sweep first)"
+DEFAULT_POINTS = 8  # per parameter: 8 x 8 = 64 runs is a minute or so for the presets on two cores
+MAX_POINTS = 60  # per parameter, so a misclick cannot queue thousands of runs
+STALE = "**Stale:** the scene has changed since this sweep; its points are those of the earlier scene. " \
+        "Run the sweep again for the current one."
+
+
+def sweepable(sc: physics.Scenario) -> list[str]:
+    """The slider keys (controls.PARAMS) of this scenario's system that a sweep can vary in it."""
+    allowed = set(physics.numeric_keys(sc))
+    return [p.key for p in controls.PARAMS if sc.system in p.systems and scenario_key(p.key, sc.system) in allowed]
+
+
+class SweepPanel:
+    """Widgets added to the current gui context. ``get_scenario()`` is the scene's scenario when Run is
+    pressed; ``load_scenario(sc)`` is called (from the GUI callback thread) when a point is loaded.
+    ``executor``/``workers`` go to physics.sweep (local processes on all cores by default); ``scene``
+    lets the user draw the points as clickable cells in the 3-D scene."""
+
+    def __init__(self, gui, get_scenario: Callable[[], physics.Scenario],
+                 load_scenario: Callable[[physics.Scenario], None], *, workers: int | None = None,
+                 executor: str = "processes", scene=None):
+        self.get_scenario, self.load_scenario = get_scenario, load_scenario
+        self.board = SweepBoard(scene, self.load_point) if scene is not None else None
+        self.workers, self.executor = workers, executor
+        self.table: physics.SweepTable | None = None
+        self.stale = False
+        self.thread: threading.Thread | None = None
+        self.stop = threading.Event()
+        self._points: dict[str, int] = {}
+        sc = get_scenario()
+        self.system = sc.system
+        keys = sweepable(sc) or [NONE]
+        self.status = gui.add_markdown("Vary one or two parameters; each point is a full run.")
+        self.key1 = gui.add_dropdown("parameter", keys, initial_value=keys[0],
+                                     hint="the slider to vary (along the curve, or down the heat map)")
+        self.lo1 = gui.add_number("from", 0.0, step=0.01)
+        self.hi1 = gui.add_number("to", 1.0, step=0.01)
+        self.n1 = gui.add_number("points", DEFAULT_POINTS, min=1, max=MAX_POINTS, step=1)
+        self.log1 = gui.add_checkbox("log spacing", False, hint="geometric spacing (both ends must be > 0)")
+        self.key2 = gui.add_dropdown("second parameter", [NONE, *keys], initial_value=NONE,
+                                     hint="a second slider makes a heat map (across)")
+        self.lo2 = gui.add_number("from (2nd)", 0.0, step=0.01)
+        self.hi2 = gui.add_number("to (2nd)", 1.0, step=0.01)
+        self.n2 = gui.add_number("points (2nd)", DEFAULT_POINTS, min=1, max=MAX_POINTS, step=1)
+        self.log2 = gui.add_checkbox("log spacing (2nd)", False)
+        self.metric = gui.add_dropdown("metric", list(physics.METRICS), initial_value="decay_time",
+                                       hint="; ".join(f"{m.name}: {m.meaning} ({m.unit})"
+                                                      for m in physics.METRICS.values()))
+        self.run_btn = gui.add_button("Run sweep")
+        self.stop_btn = gui.add_button("Stop sweep", disabled=True)
+        self.bar = gui.add_progress_bar(0.0)
+        self.board_box = gui.add_checkbox("cells in the 3-D scene", False, visible=scene is not None,
+                                          hint="also draw the points on the floor in front of the body; "
+                                          "clicking a cell loads its point")
+        tab = results_window.results_tab(gui, "Sweep")
+        with tab if tab is not None else contextlib.nullcontext():
+            self.result_md = gui.add_markdown("Run a sweep: its best point, chart and points appear here.")
+            # viser's browser side sizes a plotly chart as height = aspect x width (measured: 0.625 gives
+            # 520 x 326 px), so a wide chart needs an aspect below 1
+            self.plot = gui.add_plotly(self._empty_figure(), aspect=0.625, config={"displayModeBar": False})
+            self.point = gui.add_dropdown("point", [NO_POINTS], initial_value=NO_POINTS,
+                                          hint="computed points: the best (by the rule above) first, then the "
+                                          "others, then the failed ones")
+            self.load_btn = gui.add_button("Load this point", disabled=True)
+        self.key1.on_update(lambda _: self._reset_range(1))
+        self.key2.on_update(lambda _: self._reset_range(2))
+        self.run_btn.on_click(lambda _: self.start())
+        self.stop_btn.on_click(lambda _: self.stop.set())
+        self.load_btn.on_click(lambda _: self.load_selected())
+        self.board_box.on_update(lambda _: self._draw_board())
+        self._reset_range(1)
+        self._reset_range(2)
+
+    # ---- widgets --------------------------------------------------------------------------------
+    @staticmethod
+    def _empty_figure():
+        import plotly.graph_objects as go
+
+        fig = go.Figure()
+        fig.update_layout(margin={"l": 10, "r": 10, "t": 10, "b": 10})
+        return fig
+
+    def _reset_range(self, which: int) -> None:
+        key = (self.key1 if which == 1 else self.key2).value
+        lo, hi, log, n = ((self.lo1, self.hi1, self.log1, self.n1) if which == 1 else
+                          (self.lo2, self.hi2, self.log2, self.n2))
+        visible = key != NONE
+        for h in ((lo, hi, log, n) if which == 2 else ()):
+            h.visible = visible
+        if key not in controls.BY_KEY:
+            return
+        try:
+            a, b = default_range(self.get_scenario(), key, int(n.value))
+        except Exception:  # noqa: BLE001 - a scenario being swapped out: keep the old range
+            return
+        for box, v in ((lo, a), (hi, b)):
+            # viser's number box shows and accepts as many decimals as its precision, fixed when it was
+            # made from its first value (0 -> whole numbers): widen it before the value arrives
+            box.precision = box_precision(a, b)
+            box.step = box_step(a, b)
+            box.value = v
+
+    def refresh(self) -> None:
+        """Rebuild the parameter lists for the scene's current system (call after a system change)."""
+        sc = self.get_scenario()
+        self.system = sc.system
+        keys = sweepable(sc) or [NONE]
+        if list(self.key1.options) != keys:
+            self.key1.options = keys
+            self.key2.options = [NONE, *keys]
+        if self.key1.value not in keys:
+            self.key1.value = keys[0]
+        if self.key2.value not in self.key2.options:
+            self.key2.value = NONE
+        self.scene_changed()
+
+    def scene_changed(self) -> None:
+        """Mark the result stale when the scene differs from the sweep's, apart from the swept keys
+        (loading one of its points keeps it current); the session calls this on every scene change."""
+        if self.table is None:
+            return
+        try:  # called from the session's loop: never raise into it
+            stale = not same_scene(self.table.base, self.get_scenario(), ignore=self.table.keys)
+            if stale != self.stale:
+                self.stale = stale
+                self.plot.figure = sweep_view.figure(self.table, stale=stale)
+                self.result_md.content = (STALE + "  \n" if stale else "") + sweep_view.summary(self.table)
+                if stale and self.board is not None:
+                    self.board.clear()
+        except Exception:  # noqa: BLE001 - a scenario being swapped out: judged again at the next change
+            pass
+
+    def _say(self, text: str) -> None:
+        self.status.content = text
+
+    # ---- running --------------------------------------------------------------------------------
+    def request(self) -> tuple[physics.Scenario, dict, str]:
+        """(scenario, vary, metric) from the widgets; raises ScenarioError on bad input."""
+        sc = self.get_scenario()
+        if sc.system != self.system:
+            self.refresh()
+            raise physics.ScenarioError("parameter", self.key1.value, f"the scene is now a {sc.system}: the lists "
+                                        "were updated; pick again")
+        vary = {}
+        for key, lo, hi, n, log in ((self.key1.value, self.lo1, self.hi1, self.n1, self.log1),
+                                    (self.key2.value, self.lo2, self.hi2, self.n2, self.log2)):
+            if key == NONE:
+                continue
+            if key not in controls.BY_KEY:
+                raise physics.ScenarioError("parameter", key, "is not a slider of the explorer")
+            count = int(n.value)
+            if not 1 <= count <= MAX_POINTS:
+                raise physics.ScenarioError(f"points of {key}", n.value, f"must be from 1 to {MAX_POINTS}")
+            a, b = float(lo.value), float(hi.value)
+            spec = ("log", a, b, count) if log.value else (a, b, count)
+            physics.axis_values(spec, key)  # a bad range is reported before anything starts
+            vary[scenario_key(key, sc.system)] = spec
+        if len(vary) < (2 if self.key2.value != NONE else 1):
+            raise physics.ScenarioError("second parameter", self.key2.value, "must differ from the first")
+        return sc, vary, self.metric.value
+
+    def start(self) -> threading.Thread | None:
+        """Start a sweep in a daemon thread (ignored while one runs); returns the thread."""
+        if self.thread is not None and self.thread.is_alive():
+            self._say("A sweep is running; **Stop sweep** ends it.")
+            return None
+        try:
+            sc, vary, metric = self.request()
+            n = math.prod(spec[-1] for spec in vary.values())
+        except Exception as exc:  # noqa: BLE001 - shown, never raised into viser
+            self._say(f"**Cannot start:** {exc}")
+            return None
+        self.stop.clear()
+        self.bar.value = 0.0
+        self.run_btn.disabled, self.stop_btn.disabled = True, False
+        ranges = "; ".join(f"{k.split('.', 1)[1]} from {s[-3]:.6g} to {s[-2]:.6g} ({s[-1]} points"
+                           + (", log" if len(s) == 4 else "") + ")" for k, s in vary.items())
+        self._say(f"Running {n} simulations on local workers: {ranges}...")
+        self.thread = threading.Thread(target=self._work, args=(sc, vary, metric), name="sweep", daemon=True)
+        self.thread.start()
+        return self.thread
+
+    def _progress(self, done: int, total: int) -> None:
+        self.bar.value = 100.0 * done / total if total else 100.0
+
+    def _work(self, sc: physics.Scenario, vary: dict, metric: str) -> None:
+        try:
+            table = physics.sweep(sc, vary, metric, workers=self.workers, executor=self.executor,
+                                  progress=self._progress, stop=self.stop)
+            self.show(table)
+        except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
+            self._say(f"**Sweep failed:** {type(exc).__name__}: {exc}")
+        finally:
+            self.run_btn.disabled, self.stop_btn.disabled = False, True
+
+    def show(self, table: physics.SweepTable) -> None:
+        """Chart ``table``, say which point is best and why others failed, and list its points for loading."""
+        self.table, self.stale = table, False
+        self.plot.figure = sweep_view.figure(table)
+        order = sweep_view.ranked(table)
+        self._points = {sweep_view.point_label(table, i): i for i in order}
+        labels = list(self._points)
+        self.point.options = labels
+        self.point.value = labels[0]
+        self.load_btn.disabled = False
+        failed = sum(1 for r in table.rows if r["error"])
+        ranges = "; ".join(f"{k.split('.', 1)[1]} from {a[0]:.6g} to {a[-1]:.6g} ({len(a)} points)"
+                           for k, a in zip(table.keys, table.axes, strict=True))
+        self.result_md.content = sweep_view.summary(table)
+        note = (f"{len(table.rows)} points in {table.wall_s:.1f} s" + (" (stopped)" if table.stopped else "")
+                + (f", {failed} failed" if failed else "") + f": {ranges}. The result is in the Sweep window.")
+        if self._draw_board():
+            note += " Click a cell on the floor in front of the body to load its point."
+        elif self.board_box.value and len(table.rows) > BOARD_MAX:
+            note += f" (Over {BOARD_MAX} points: pick them from the list.)"
+        self._say(note)
+        self.scene_changed()  # the scene may have changed while the sweep ran
+
+    def _draw_board(self) -> bool:
+        """Draw the points as cells in the scene when asked to (and not stale); True if drawn."""
+        if self.board is None:
+            return False
+        if not self.board_box.value or self.table is None or self.stale:
+            self.board.clear()
+            return False
+        return self.board.show(self.table)
+
+    def load_selected(self) -> physics.Scenario | None:
+        """Hand the selected point's scenario to ``load_scenario``; returns it (None if impossible)."""
+        if self.table is None or self.point.value not in self._points:
+            self._say("Run a sweep first, then pick a point.")
+            return None
+        return self.load_point(self._points[self.point.value])
+
+    def load_point(self, i: int) -> physics.Scenario | None:
+        """Hand row ``i``'s scenario to ``load_scenario`` (a dropdown choice or a clicked cell)."""
+        if self.table is None or not 0 <= i < len(self.table.rows):
+            return None
+        row = self.table.rows[i]
+        if row["error"]:
+            self._say(f"**Point #{i} cannot be loaded:** {sweep_view.failure(row)}")
+            return None
+        try:
+            sc = self.table.scenario(i)
+            self.load_scenario(sc)
+        except Exception as exc:  # noqa: BLE001
+            self._say(f"**Cannot load point #{i}:** {exc}")
+            return None
+        self._say(f"Loaded point #{i}: " + ", ".join(f"{k} = {row[k]:.6g}" for k in self.table.keys))
+        return sc
