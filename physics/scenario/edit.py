@@ -9,16 +9,19 @@ item i with ``plane_pendulum[i].k``.
 from __future__ import annotations
 
 import re
+from types import SimpleNamespace
 
 from physics.core.errors import ScenarioError
 from physics.scenario.initial import initial_G
+from physics.scenario.params import Body, Initial
 
 ITEM = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\[([0-9]+)\]$")
 
 
 def edit_dict(data: dict, dotted: str, value, base=None) -> None:
     """Set ``dotted`` (``table.key``) to ``value`` in the scenario dict ``data`` (``Scenario.to_dict()``),
-    in place. ``base`` is the Scenario ``data`` came from (needed to rewrite omega as G0, theta0)."""
+    in place. ``base`` is the Scenario ``data`` came from (its body and initial rewrite omega as G0, theta0; without
+    it they are read from ``data``)."""
     table, _, key = dotted.partition(".")
     if not key:
         raise ScenarioError(dotted, value, "must be a dotted key table.key, e.g. mass.m")
@@ -38,9 +41,7 @@ def edit_dict(data: dict, dotted: str, value, base=None) -> None:
     section = data.setdefault(table, {})
     if table == "initial" and key in ("G0", "theta0") and "omega" in section:
         if base is None:
-            from physics.scenario.scenario import Scenario
-
-            base = Scenario.from_dict(data)
+            base = _start(data, section)
         _, G0, theta0 = initial_G(base)
         section.pop("omega")
         section["G0"], section["theta0"] = G0, theta0
@@ -49,11 +50,12 @@ def edit_dict(data: dict, dotted: str, value, base=None) -> None:
     section[key] = value
 
 
-def with_values(base, values: dict):
-    """``base`` (a Scenario) with the dotted keys set, validated again (raises ScenarioError)."""
-    from physics.scenario.scenario import Scenario
-
-    data = base.to_dict()
-    for dotted, value in values.items():
-        edit_dict(data, dotted, value, base)
-    return Scenario.from_dict(data)
+def _start(data: dict, initial: dict) -> SimpleNamespace:
+    """The body and initial tables of ``data``, validated: all that ``initial_G`` reads of a scenario."""
+    body = data.get("body")
+    if not isinstance(body, dict):
+        raise ScenarioError("body", body, "the table [body] is required")
+    try:
+        return SimpleNamespace(body=Body(**body), initial=Initial(**initial))
+    except TypeError as exc:  # a key the table does not have
+        raise ScenarioError("initial", "(keys)", f"cannot be read: {exc}") from None

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from physics.scenario.scenario import Scenario
+if TYPE_CHECKING:  # read only for its body and initial tables; the scenario module imports the edits built on this
+    from physics.scenario.scenario import Scenario
 
 
 def initial_G(scenario: Scenario) -> tuple[np.ndarray, float, float]:

@@ -19,6 +19,7 @@ from pathlib import Path
 
 from physics import registry
 from physics.core.errors import ScenarioError
+from physics.scenario.edit import edit_dict
 from physics.scenario.params import Body, Initial, Run
 
 BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")  # TOML's bare keys; others are shown quoted
@@ -199,10 +200,12 @@ class Scenario:
         return Scenario(**now)
 
     def with_values(self, **dotted) -> Scenario:
-        """A copy with single keys changed, e.g. ``with_values(**{"mass.m": 0.2})`` (physics/scenario/edit.py)."""
-        from physics.scenario.edit import with_values
-
-        return with_values(self, dotted)
+        """A copy with single keys changed, e.g. ``with_values(**{"mass.m": 0.2})``, validated again (raises
+        ScenarioError; how a dotted key maps onto the tables: physics/scenario/edit.py)."""
+        data = self.to_dict()
+        for key, value in dotted.items():
+            edit_dict(data, key, value, self)
+        return Scenario.from_dict(data)
 
 
 def _read_capped(p: Path) -> bytes:

@@ -34,7 +34,6 @@ import numpy as np
 
 from physics.core.errors import ScenarioError
 from physics.registry import REGISTRY, get_system
-from physics.scenario.edit import with_values
 from physics.scenario.scenario import Scenario, _toml_names, sections
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
@@ -148,7 +147,7 @@ def point_scenario(base: Scenario, values: dict[str, float]) -> Scenario:
     """``base`` with the dotted keys set to numbers (validated again; physics/scenario/edit.py): a key of
     [[plane_pendulum]] sets every pendulum; initial.G0 or theta0 on a scenario given by omega first rewrites
     omega as G0, theta0."""
-    return with_values(base, {k: float(v) for k, v in values.items()})
+    return base.with_values(**{k: float(v) for k, v in values.items()})
 
 
 def check_point(base: Scenario, values: dict[str, float]) -> Scenario:

@@ -32,7 +32,9 @@ import numpy as np
 
 from physics.registry import Condition, get_model
 from physics.scenario.scenario import Scenario
+from physics.systems.choice import cheapest_within
 from physics.systems.moving_mass.coefficients import coefficients
+from physics.systems.moving_mass.validity import structural_failures
 
 PATH_SAMPLES = 257  # points of the cheaper model's theta(t) the terms are read from
 # Fitted on the calibration set (the moving-mass draws of python -m bench fidelity --seed 7 --n 240: 143 of 160 in
@@ -153,11 +155,17 @@ def averaged_error_bound(sc: Scenario) -> float:
 
 @lru_cache(maxsize=64)
 def _bound(sc: Scenario) -> float:
-    from physics.systems.moving_mass.validity import structural_failures
-
     if sc.mass is None or structural_failures(sc) or any(not c.holds for c in domain(sc)):
         return math.inf
     return estimate(sc)
+
+
+def choose(sc: Scenario) -> tuple[str, str]:
+    """``auto``'s pick for a moving-mass scenario: the cheapest model whose error estimate meets ``run.accuracy``
+    (the default accuracy when unset), among those the structural conditions (validity.py) and the estimate's
+    calibrated domain leave."""
+    outside = [c for c in domain(sc) if not c.holds] if sc.mass is not None else []
+    return cheapest_within(sc, structural_failures(sc) + outside)
 
 
 METHOD = ("the full model's own start against theta0, carried along the cheaper model's theta(t) with a measured "

@@ -15,12 +15,12 @@ import numpy as np
 from physics.core.errors import ScenarioError
 from physics.registry import Param, System, Table, register_system
 from physics.systems.moving_mass import closed_model, models  # noqa: F401  (registers the models)
-from physics.systems.moving_mass.accuracy import METHOD, averaged_error_bound
+from physics.systems.moving_mass.accuracy import METHOD, averaged_error_bound, choose
 from physics.systems.moving_mass.models import quasi_static_displacement
 from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium
 from physics.systems.moving_mass.quantities import QUANTITIES
 from physics.systems.moving_mass.start import PART, STATE, start_part
-from physics.systems.moving_mass.validity import averaged_conditions, choose, closed_form_available
+from physics.systems.moving_mass.validity import averaged_conditions, closed_form_available
 
 NAME = "moving_mass"
 MASS_FOLDER, FRICTION_FOLDER = "Moving mass, medium, braking", "Friction and cavity"

@@ -65,13 +65,3 @@ def structural_failures(sc: Scenario) -> list[Condition]:
     if sc.mass is not None and sc.mass.lam_q > 0:
         failed.append(Condition("lam_q (quadratic friction: no calibrated error estimate)", sc.mass.lam_q, 0.0))
     return failed
-
-
-def choose(sc: Scenario) -> tuple[str, str]:
-    """``auto``'s pick for a moving-mass scenario: the cheapest model whose error estimate
-    (physics/systems/moving_mass/accuracy.py) meets ``run.accuracy`` (the default accuracy when unset)."""
-    from physics.systems.choice import cheapest_within
-    from physics.systems.moving_mass.accuracy import domain
-
-    outside = [c for c in domain(sc) if not c.holds] if sc.mass is not None else []
-    return cheapest_within(sc, structural_failures(sc) + outside)
