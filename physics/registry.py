@@ -13,6 +13,12 @@ states become a Trajectory) or a closed form (``solve``).
 It sits below the scenario machinery (which reads the systems' tables from it) and the systems (which
 register here). Systems register themselves with ``register_system`` from their own folder's ``system`` module;
 ``load_builtin`` imports every folder of this package that has one, so adding a folder is enough.
+
+Registration is checked. At ``register_system``: every Param's table (its key before the dot) is one of the
+system's tables or a shared one (``SHARED_TABLES``). Models and systems may register in either order, so a
+system without a full model waits outside ``SYSTEMS`` (nothing lists it as runnable) until its full model comes;
+when loading completes and whenever the registry is read (``systems``, ``get_system``, ``get_model``,
+``tables``), a system still waiting or a model whose system never came raises RegistrationError naming it.
 """
 
 from __future__ import annotations
@@ -32,6 +38,11 @@ if TYPE_CHECKING:
     from physics.scenario.scenario import Scenario
 
 FIDELITY_ORDER = ("full", "averaged", "closed")  # dearest first; "auto" chooses among them
+SHARED_TABLES = ("body", "initial", "run")  # every scenario's tables (physics/scenario/params.py), no system's own
+
+
+class RegistrationError(ValueError):
+    """A system or model registered incompletely: names the system and what it lacks."""
 
 
 @dataclass(frozen=True)
@@ -183,7 +194,9 @@ class System:
     (a zero mass removes the mass); ``values(sc, item=None)`` the slider values describing a scenario (item
     picks one of an array table's items).
     ``amplitude(tr, sc)`` is the internal part's largest excursion over a run (the sweeps' max_displacement).
-    ``example`` is a scenario (TOML text) that shows the part at work.
+    ``example`` is a scenario (TOML text) that shows the part at work. ``borrows``: tables of a system registered
+    before it whose Params it uses as its own sliders (the plane pendulums' ``pendulum.k`` sets every
+    [[plane_pendulum]], so one slider serves both pendulum systems); its ``edit`` maps them onto its tables.
 
     For a state carried across a change (physics/systems/carry.py): ``parts`` maps an optional table (its
     Scenario attribute) to the state entries that belong to it, dropped when the table is absent and started
@@ -205,6 +218,7 @@ class System:
     example: str
     params: tuple[Param, ...] = ()
     folders: tuple[str, ...] = ()  # the explorer's slider groups, in order (Param.folder names them)
+    borrows: tuple[str, ...] = ()  # another system's tables its Params name (see above)
     default: bool = False  # runs a scenario that has none of the systems' selecting tables (a bare body)
     check: Callable[[Any], None] | None = None
     conditions: Callable[[Any], list[Condition]] = lambda sc: []
@@ -245,24 +259,51 @@ class System:
         return "full", "no cheaper model"
 
 
-SYSTEMS: dict[str, System] = {}
+SYSTEMS: dict[str, System] = {}  # the runnable systems: each has its full model
 REGISTRY: dict[str, Model] = {}  # "system/fidelity" -> Model
+_WAITING: dict[str, System] = {}  # registered, its full model not yet
 _LOADING = threading.RLock()
 _LOADED = False
 
 
+def _check_params(system: System) -> None:
+    owned = {t.name for t in system.tables}
+    others = {t.name for s in (*SYSTEMS.values(), *_WAITING.values()) for t in s.tables}
+    for table in system.borrows:
+        if table not in others:
+            raise RegistrationError(f"system {system.name!r} borrows the table [{table}], which no system registered "
+                                    "before it has")
+    for param in system.params:
+        table = param.key.partition(".")[0]
+        if table not in owned and table not in SHARED_TABLES and table not in system.borrows:
+            raise RegistrationError(
+                f"system {system.name!r}: Param {param.key!r} names the table [{table}], which is neither one of its "
+                f"tables ({', '.join(sorted(owned)) or 'none'}) nor a shared one ({', '.join(SHARED_TABLES)})")
+
+
+def _place(system: System) -> None:
+    """In SYSTEMS once it has its full model, else waiting for it."""
+    if "full" in system.models:
+        _WAITING.pop(system.name, None)
+        SYSTEMS[system.name] = system
+    else:
+        _WAITING[system.name] = system
+
+
 def register_system(system: System) -> System:
-    if system.name in SYSTEMS:
+    if system.name in SYSTEMS or system.name in _WAITING:
         raise ValueError(f"system {system.name!r} registered twice")
-    SYSTEMS[system.name] = system
+    _check_params(system)
     for model in [m for m in REGISTRY.values() if m.system == system.name]:  # models registered first
         system.models[model.fidelity] = model
+    _place(system)
     return system
 
 
 def unregister_system(name: str) -> None:
     """Remove a system and its models (for tests that register a toy system)."""
     SYSTEMS.pop(name, None)
+    _WAITING.pop(name, None)
     for key in [k for k, m in REGISTRY.items() if m.system == name]:
         del REGISTRY[key]
 
@@ -271,9 +312,23 @@ def register(model: Model) -> Model:
     if model.name in REGISTRY:
         raise ValueError(f"model {model.name!r} registered twice")
     REGISTRY[model.name] = model
-    if model.system in SYSTEMS:
-        SYSTEMS[model.system].models[model.fidelity] = model
+    system = SYSTEMS.get(model.system) or _WAITING.get(model.system)
+    if system is not None:
+        system.models[model.fidelity] = model
+        _place(system)
     return model
+
+
+def check_complete() -> None:
+    """Raise RegistrationError if a registered system has no full model or a model's system was never registered."""
+    if len(REGISTRY) == sum(len(s.models) for s in SYSTEMS.values()) and not _WAITING:
+        return  # every model sits in a runnable system (the common case, counted without a walk)
+    problems = [f"system {name!r} has no full model (registered: {', '.join(s.models) or 'none'})"
+                for name, s in _WAITING.items()]
+    problems += [f"model {m.name!r} belongs to the system {m.system!r}, which is not registered"
+                 for m in REGISTRY.values() if m.system not in SYSTEMS and m.system not in _WAITING]
+    if problems:
+        raise RegistrationError("; ".join(problems))
 
 
 def load_builtin() -> None:
@@ -296,18 +351,24 @@ def load_builtin() -> None:
         _LOADED = True
 
 
-def systems() -> dict[str, System]:
+def _ready() -> None:
+    """Loaded, and every registration complete (checked on each read: a toy registered later is checked too)."""
     load_builtin()
+    check_complete()
+
+
+def systems() -> dict[str, System]:
+    _ready()
     return SYSTEMS
 
 
 def get_system(name: str) -> System:
-    load_builtin()
+    _ready()
     return SYSTEMS[name]
 
 
 def get_model(system: str, fidelity: str) -> Model:
-    load_builtin()
+    _ready()
     return REGISTRY[f"{system}/{fidelity}"]
 
 

@@ -8,6 +8,7 @@ conserved; with h = 0 it is the free rigid body, which the moving-mass system ru
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from dataclasses import dataclass
@@ -204,3 +205,68 @@ def test_a_change_keeps_its_momentum_and_its_readouts_work_with_no_hooks_given()
     assert run.remaining_braking_time() == math.inf
     assert describe("h", NAME) == ("", "")
     assert describe("auto_model", NAME) == COMMON["auto_model"]
+
+
+# ---- registration is checked: each rule broken by a toy of its own ----------------------------------------------
+
+def _toy_system(name: str, table: str, params=()):
+    return physics.System(name=name, label=name, summary="a toy breaking a registration rule",
+                          tables=(physics.Table(table, Rotor),), example=EXAMPLE.replace("[rotor]", f"[{table}]"),
+                          params=params)
+
+
+def _toy_model(system: str, fidelity: str = "full"):
+    return physics.Model(name=f"{system}/{fidelity}", system=system, fidelity=fidelity, summary="toy",
+                         state=("wx", "wy", "wz", "qw", "qx", "qy", "qz"), py_rhs=rhs, pack=pack,
+                         initial_state=initial_state, observe=observe, invariants=invariants)
+
+
+def test_a_system_without_a_full_model_is_not_runnable_and_is_named_until_its_full_model_comes():
+    name = "toy_no_full"
+    try:
+        physics.register_system(_toy_system(name, "wheel0"))
+        physics.register_model(_toy_model(name, "averaged"))  # a cheaper model is not enough
+        assert name not in physics.SYSTEMS
+        with pytest.raises(physics.RegistrationError, match=f"system '{name}' has no full model .registered: averaged"):
+            physics.registry.systems()
+        with pytest.raises(physics.RegistrationError, match=name):
+            physics.Scenario.from_toml(EXAMPLE)  # any use of the registry says so
+        physics.register_model(_toy_model(name))  # registered in the other order: now it is complete
+        assert physics.registry.systems()[name].fidelities == ("auto", "full", "averaged")
+    finally:
+        physics.unregister_system(name)
+    physics.registry.systems()  # removed: the registry is whole again
+
+
+def test_a_model_whose_system_never_registers_is_named():
+    name = "toy_orphan"
+    try:
+        physics.register_model(_toy_model(name))
+        with pytest.raises(physics.RegistrationError, match=f"model '{name}/full' belongs to the system '{name}', "
+                                                            "which is not registered"):
+            physics.registry.get_system(NAME)
+    finally:
+        physics.unregister_system(name)
+    assert physics.registry.get_system(NAME).name == NAME
+
+
+def test_a_param_of_a_table_the_system_does_not_have_is_refused_at_registration():
+    stray = physics.Param("mass.m", "m", "kg", "a key of the moving mass's table", 0.0, 1.0, 0.1)
+    with pytest.raises(physics.RegistrationError, match=r"system 'toy_stray': Param 'mass.m' names the table \[mass\]"):
+        physics.register_system(_toy_system("toy_stray", "wheel1", params=(stray,)))
+    assert "toy_stray" not in physics.SYSTEMS and "toy_stray" not in physics.registry._WAITING
+    shared = physics.Param("initial.G0", "G0", "kg m^2/s", "a shared table's key", 0.1, 5.0, 0.1)
+    own = physics.Param("wheel1.h", "h", "kg m^2/s", "its own table's key", -1.0, 1.0, 0.1)
+    try:  # its own table and a shared one are accepted
+        physics.register_model(_toy_model("toy_stray"))
+        physics.register_system(_toy_system("toy_stray", "wheel1", params=(shared, own)))
+        assert "toy_stray" in physics.registry.systems()
+    finally:
+        physics.unregister_system("toy_stray")
+
+
+def test_a_borrowed_table_must_belong_to_a_system_registered_before():
+    with pytest.raises(physics.RegistrationError, match=r"'toy_borrow' borrows the table \[nowhere\]"):
+        physics.register_system(dataclasses.replace(_toy_system("toy_borrow", "wheel2"), borrows=("nowhere",)))
+    # the plane pendulums borrow the spherical pendulum's sliders: pendulum.k sets every [[plane_pendulum]]
+    assert physics.get_system("plane_pendulums").borrows == ("pendulum",)

@@ -31,7 +31,8 @@ MAX_KEY_PARTS = 8  # parts of one dotted key or table header: a.b.c has 3
 MAX_KEYS = 2_000  # key/value lines and table headers in one file
 MAX_NESTING = 32  # arrays and inline tables inside one another
 BOM = "\ufeff"  # a UTF-8 byte-order mark, written by some editors: not part of the TOML
-BASE = {"body": Body, "initial": Initial, "run": Run}  # every scenario's tables; the systems add theirs
+# every scenario's tables (the registry's SHARED_TABLES, which a Param may name); the systems add theirs
+BASE = dict(zip(registry.SHARED_TABLES, (Body, Initial, Run), strict=True))
 
 
 def sections() -> dict[str, type]:

@@ -187,7 +187,7 @@ PLANE = register_system(System(
     name="plane_pendulums", label="plane pendulums",
     summary="Taylor's plane pendulums, each on a hinge with a torsional spring and damper (MODELS B.1, B.7)",
     tables=(Table("plane_pendulum", PlanePendulum, array=True, field="plane_pendulums"),), example=PLANE_EXAMPLE,
-    params=_params("plane"), folders=(FOLDER,), check=check,
+    params=_params("plane"), borrows=("pendulum",), folders=(FOLDER,), check=check,
     choose=lambda sc: ("full", "plane pendulums have only the full model"), derived=derived, edit=edit,
     values=lambda sc, item=None: _values(
         sc, sc.plane_pendulums[item if item is not None and 0 <= item < len(sc.plane_pendulums) else 0]
