@@ -169,3 +169,26 @@ def test_inline_mode_starts_no_build(fresh_build, monkeypatch):
     monkeypatch.setenv(kernel_build.MODE_ENV, "inline")
     st = kernel_build.start(command=[sys.executable, "-c", "raise SystemExit(1)"])
     assert st.state == kernel_build.READY and fresh_build.proc is None and kernel_build.compiled_ready()
+
+
+QUAT_RATE_TOL = 1e-15  # 1/s: a few roundings of products of order one
+
+
+def test_every_kernel_takes_its_attitude_rate_from_the_one_helper():
+    """q' = q (0, w) / 2 is written once (physics/compiled/attitude.py) and agrees with the Hamilton product;
+    each compiled right-hand side calls it (its twin with it), none spells the product out again."""
+    from physics.compiled import attitude
+    from physics.core.rotation import qmul
+
+    rng = np.random.default_rng(3)
+    q, w = rng.normal(size=4), rng.normal(size=3)
+    y, out = np.concatenate([[9.0], q]), np.zeros(5)
+    attitude.quaternion_rate(y, 1, *w, out)
+    expected = 0.5 * qmul(q, np.concatenate([[0.0], w]))
+    np.testing.assert_allclose(out[1:], expected, rtol=0, atol=QUAT_RATE_TOL)
+    assert out[0] == 0.0  # only the quaternion's four entries are written
+    compiled = Path(dispatch.__file__).parent
+    spelled = [p.name for p in compiled.glob("*.py") if "0.5 * (qw * w1" in p.read_text()]
+    assert spelled == ["attitude.py"]
+    for name in ("mass_full", "averaged", "pendulum"):
+        assert "quaternion_rate(" in (compiled / f"{name}.py").read_text(), name

@@ -16,6 +16,8 @@ import math
 
 from numba import njit
 
+from .attitude import quaternion_rate
+
 NY = 7
 NP = 12
 
@@ -76,11 +78,7 @@ def omega_dot(w1, w2, w3, p):
 def rhs(t, y, p, out):
     w1, w2, w3 = y[0], y[1], y[2]
     out[0], out[1], out[2] = omega_dot(w1, w2, w3, p)
-    qw, qx, qy, qz = y[3], y[4], y[5], y[6]
-    out[3] = -0.5 * (qx * w1 + qy * w2 + qz * w3)
-    out[4] = 0.5 * (qw * w1 + qy * w3 - qz * w2)
-    out[5] = 0.5 * (qw * w2 + qz * w1 - qx * w3)
-    out[6] = 0.5 * (qw * w3 + qx * w2 - qy * w1)
+    quaternion_rate(y, 3, w1, w2, w3, out)
 
 
 @njit(cache=True)

@@ -24,6 +24,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .attitude import quaternion_rate
+
 NY = 15
 NP = 15
 
@@ -145,11 +147,7 @@ def rhs(t, y, p, out):
     out[6] = R1 / mr + (d2 * a3 - d3 * a2)
     out[7] = R2 / mr + (d3 * a1 - d1 * a3)
     out[8] = R3 / mr + (d1 * a2 - d2 * a1)
-    qw, qx, qy, qz = y[9], y[10], y[11], y[12]
-    out[9] = -0.5 * (qx * w1 + qy * w2 + qz * w3)
-    out[10] = 0.5 * (qw * w1 + qy * w3 - qz * w2)
-    out[11] = 0.5 * (qw * w2 + qz * w1 - qx * w3)
-    out[12] = 0.5 * (qw * w3 + qx * w2 - qy * w1)
+    quaternion_rate(y, 9, w1, w2, w3, out)
     out[13] = damp * vn * vn
     out[14] = -(M1 * w1 + M2 * w2 + M3 * w3 + tcav)
 

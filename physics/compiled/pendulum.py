@@ -58,6 +58,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .attitude import quaternion_rate
+
 HEADER = 12
 BOB = 16
 SPHERICAL, PLANE = 0, 1
@@ -374,11 +376,7 @@ def rhs(t, y, p, out):
         out[3 + a] = y[3 + nq + a]
         out[3 + nq + a] = X[3 + a]
     o = 3 + 2 * nq
-    qw, qx, qy, qz = y[o], y[o + 1], y[o + 2], y[o + 3]
-    out[o] = -0.5 * (qx * w1 + qy * w2 + qz * w3)
-    out[o + 1] = 0.5 * (qw * w1 + qy * w3 - qz * w2)
-    out[o + 2] = 0.5 * (qw * w2 + qz * w1 - qx * w3)
-    out[o + 3] = 0.5 * (qw * w3 + qx * w2 - qy * w1)
+    quaternion_rate(y, o, w1, w2, w3, out)
     out[o + 4] = _dissipation(y, p)
     if p[0] == SPHERICAL and out.size > CHART:
         out[CHART] = 0.0  # the chart changes only by switch_chart
