@@ -110,6 +110,19 @@ def test_a_switch_to_the_compiled_kernels_mid_run_keeps_the_state_continuous(pen
     assert mixed.nsteps == reference.nsteps and mixed.status == RUNNING
 
 
+def test_the_method_is_named_as_the_stepper_runs_it(pending, monkeypatch):
+    """physics.derived's auto_method and the live run's stepper give one name: interpreted while the build is
+    pending (they said "compiled" while the run stepped the twin), compiled once it is ready."""
+    sc = physics.default_scenario().with_values(**{"run.fidelity": "full"})
+    run = physics.LiveRun(sc)
+    assert run.stepper.label == "DOP853 (interpreted twin while the compiled kernels are built)"
+    assert physics.derived(sc)["auto_method"] == run.stepper.label + f", rtol = {sc.run.rtol:g}"
+    monkeypatch.setattr(kernel_build._BUILD, "state", kernel_build.READY)
+    assert run.stepper.label == "DOP853 (compiled)"
+    assert physics.derived(sc)["auto_method"] == f"DOP853 (compiled), rtol = {sc.run.rtol:g}"
+    assert physics.simulate(sc).info["method"] == run.stepper.label
+
+
 def test_a_build_runs_in_a_child_and_the_run_steps_meanwhile(fresh_build, tmp_path):
     gate = tmp_path / "gate"
     child = [sys.executable, "-c", f"import pathlib, time\nwhile not pathlib.Path({str(gate)!r}).exists(): "

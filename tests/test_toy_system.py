@@ -187,6 +187,10 @@ def test_derived_and_info_report_it():
     sc = physics.Scenario.from_toml(EXAMPLE)
     d = physics.derived(sc)
     assert d["h"] == 0.3 and d["auto_fidelity"] == "full" and d["auto_model"] == f"{NAME}/full"
+    # its Python right-hand side is named as the run names it (physics info said "compiled")
+    method = physics.simulate(sc.with_values(**{"run.t_end": 0.5})).info["method"]
+    assert method == "DOP853 (interpreted, Python right-hand side)"
+    assert d["auto_method"] == f"{method}, rtol = {sc.run.rtol:g}"
 
 
 def test_a_change_keeps_its_momentum_and_its_readouts_work_with_no_hooks_given():

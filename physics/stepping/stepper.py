@@ -51,6 +51,7 @@ from physics.compiled import dop853, fixed, midpoint
 from physics.core.errors import IntegrationFault, ScenarioError
 from physics.core.tolerance import ATOL_FACTOR, atol_for  # noqa: F401 - ATOL_FACTOR: simulate's public name
 from physics.scenario.params import FIXED_STEP_METHODS
+from physics.systems.method import method_label
 
 # Adaptive steps between two stiffness checks, however they are split into calls (each check costs about 60
 # evaluations of the right-hand side: negligible every 200 000 steps).
@@ -210,13 +211,9 @@ class Stepper:
     # ---- the model's functions, compiled, interpreted or Python ---------------------------------------
     @property
     def label(self) -> str:
-        """The method's name for ``trajectory.info``."""
-        how = "interpreted, Python right-hand side" if self.model.py_rhs is not None else "compiled"
-        if self.method == "auto":
-            return f"DOP853 ({how})"
-        if self.method == "midpoint":
-            return "implicit midpoint (compiled, structure-preserving)"
-        return f"{self.method} ({how})"
+        """The method's name for ``trajectory.info``, and how it runs now (compiled, the interpreted twin while
+        the kernels are built, or a Python right-hand side): the name ``physics.derived`` gives too."""
+        return method_label(self.model, self.method, self._pick)
 
     def _functions(self):
         """(dop853.integrate, fixed.run) for this model, looked up now (tests replace them on their modules)."""
@@ -345,8 +342,8 @@ class Stepper:
         if sol.status == 1:
             t_out, Y = np.append(t_out, sol.t_events[0][0]), np.vstack([Y, sol.y_events[0][0]])
             reason = STATUS_TEXT[BRAKED]
-        return Y, t_out, dict(method=f"scipy {method}", nfev=int(sol.nfev), steps=getattr(sol, "nsteps", None),
-                              stop_reason=reason, t_stop=float(t_out[-1]))
+        return Y, t_out, dict(method=method_label(self.model, method, self._pick), nfev=int(sol.nfev),
+                              steps=getattr(sol, "nsteps", None), stop_reason=reason, t_stop=float(t_out[-1]))
 
 
 class _OutOfBudget(Exception):

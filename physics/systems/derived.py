@@ -7,9 +7,12 @@ from __future__ import annotations
 import math
 
 from physics.core.blame import guarded
+from physics.kernels.build import pick
 from physics.registry import get_system
+from physics.scenario.params import FIXED_STEP_METHODS
 from physics.scenario.scenario import Scenario
 from physics.systems.choice import choose_fidelity
+from physics.systems.method import method_label
 
 
 def derived(sc: Scenario) -> dict[str, float | str]:
@@ -23,15 +26,14 @@ def derived(sc: Scenario) -> dict[str, float | str]:
 
 
 def _method_text(sc: Scenario, fidelity: str) -> str:
-    """The integrator ``simulate`` runs for this fidelity and [run] method, with its setting."""
+    """The integrator a run of this fidelity and [run] method uses, as its Stepper names it (with the live run's
+    kernel picker: the interpreted twin while the compiled kernels are built), and its setting."""
     run = sc.run
-    if get_system(sc.system).models[fidelity].solve is not None:
+    model = get_system(sc.system).models[fidelity]
+    if model.solve is not None:
         return "closed form (no integrator)"
-    if run.method == "auto":
-        return f"DOP853 (compiled), rtol = {run.rtol:g}"
-    if run.method in ("RK4", "RK8", "midpoint"):
-        return f"{run.method} (compiled), dt = {run.dt:g} s"
-    return f"scipy {run.method}, rtol = {run.rtol:g}"
+    setting = f"dt = {run.dt:g} s" if run.method in FIXED_STEP_METHODS else f"rtol = {run.rtol:g}"
+    return f"{method_label(model, run.method, pick)}, {setting}"
 
 
 def auto_choice(sc: Scenario) -> dict[str, float | str]:
