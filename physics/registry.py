@@ -194,6 +194,10 @@ class System:
     (a zero mass removes the mass); ``values(sc, item=None)`` the slider values describing a scenario (item
     picks one of an array table's items).
     ``amplitude(tr, sc)`` is the internal part's largest excursion over a run (the sweeps' max_displacement).
+    ``initial_keys``: keys of the shared [initial] table that belong to its part (the moving mass's
+    ``mass_state``), each with the value meaning what every other system does (``"rest"``: the part starts at
+    rest relative to the body). A scenario of another system drops that value (files written before the key was
+    the moving mass's carry it) and refuses any other, naming the owner.
     ``example`` is a scenario (TOML text) that shows the part at work. ``borrows``: tables of a system registered
     before it whose Params it uses as its own sliders (the plane pendulums' ``pendulum.k`` sets every
     [[plane_pendulum]], so one slider serves both pendulum systems); its ``edit`` maps them onto its tables.
@@ -219,6 +223,7 @@ class System:
     params: tuple[Param, ...] = ()
     folders: tuple[str, ...] = ()  # the explorer's slider groups, in order (Param.folder names them)
     borrows: tuple[str, ...] = ()  # another system's tables its Params name (see above)
+    initial_keys: dict[str, Any] = field(default_factory=dict)  # [initial] keys it owns -> the others' value
     default: bool = False  # runs a scenario that has none of the systems' selecting tables (a bare body)
     check: Callable[[Any], None] | None = None
     conditions: Callable[[Any], list[Condition]] = lambda sc: []

@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import copy
 import math
+from pathlib import Path
 
 import pytest
 
 import physics
 from physics import ScenarioError
+
+ROOT = Path(__file__).resolve().parents[1]
 
 GOOD = {
     "body": {"A": 1.0, "C": 1.4, "M": 1.0},
@@ -106,10 +109,24 @@ def test_auto_reports_choice_and_reason():
     assert 0 < tr.info["error_bound"] <= 1e-2  # the estimate it states meets the accuracy asked
 
 
-def test_pendulums_start_at_rest_only():
+def test_mass_state_belongs_to_the_moving_mass():
+    """initial.mass_state is the moving mass's start: another system refuses "quasistatic" naming the owner,
+    drops "rest" (files and share links written before carry it: what every other part does anyway) and never
+    writes it; the moving mass validates it, and reads a missing one as "rest"."""
     data = {"body": {"A": 100.5, "C": 150.0, "M": 505.0}, "pendulum": {"m": 5.0, "l": 1.0, "h": -0.7, "k": 40.0},
             "initial": {"G0": 300.0, "theta0": 0.1, "mass_state": "quasistatic"}, "run": {"t_end": 1.0}}
-    with pytest.raises(ScenarioError, match="initial.mass_state = 'quasistatic': must be .rest. with pendulum"):
+    with pytest.raises(ScenarioError, match="initial.mass_state = 'quasistatic': belongs to the moving mass; this "
+                                            "scenario runs the spherical pendulum"):
         physics.Scenario.from_dict(data)
     data["initial"]["mass_state"] = "rest"
-    assert physics.Scenario.from_dict(data).system == "spherical_pendulum"
+    sc = physics.Scenario.from_dict(data)
+    assert sc.system == "spherical_pendulum" and sc.initial.mass_state is None
+    assert "mass_state" not in sc.to_toml()
+    shipped = physics.Scenario.load(ROOT / "assets" / "scenarios" / "figures" / "seed002_resonance_detuned.toml")
+    assert shipped.system == "spherical_pendulum" and shipped.initial.mass_state is None
+    with pytest.raises(ScenarioError, match="initial.mass_state = 'moving': must be one of .rest., .quasistatic."):
+        physics.Scenario.from_dict(_with("initial.mass_state", "moving"))
+    bare = dict(GOOD, initial={"G0": 1.0, "theta0": 0.5})
+    assert physics.Scenario.from_dict(bare).initial.mass_state is None
+    assert [c.name for c in physics.averaged_conditions(physics.Scenario.from_dict(bare))] == [
+        c.name for c in physics.averaged_conditions(physics.Scenario.from_dict(_with("initial.mass_state", "rest")))]

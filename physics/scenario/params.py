@@ -15,7 +15,6 @@ from physics.core.errors import ScenarioError
 FIDELITIES = ("auto", "full", "averaged", "closed")
 METHODS = ("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA", "RK4", "RK8", "midpoint")
 FIXED_STEP_METHODS = ("RK4", "RK8", "midpoint")  # compiled fixed-step methods: they need run.dt
-MASS_STATES = ("rest", "quasistatic")
 DET_MIN, DET_MAX = 2.3e-308, 1.7e308  # the normal float range
 
 
@@ -90,13 +89,14 @@ class Body:
 class Initial:
     """Initial rotation: either ``omega`` (rad/s, body frame) or ``G0`` = |J* w| (kg m^2/s) with
     the nutation angle ``theta0`` (rad), the angle between G and e3 (MODELS conventions).
-    ``mass_state``: "rest" puts the mass at O1 with no relative velocity; "quasistatic" puts it
-    on its forced (slow-manifold) motion, MODELS.md Part A section 3."""
+    ``mass_state`` (None when not given) is the moving mass's start, validated and read by that system
+    (physics/systems/moving_mass/params.py); a key of this shared table that a system owns
+    (``System.initial_keys``) is refused by the others."""
 
     omega: tuple[float, float, float] | None = None
     G0: float | None = None
     theta0: float | None = None
-    mass_state: str = "rest"
+    mass_state: str | None = None  # the moving mass's (System.initial_keys)
 
     def __post_init__(self):
         if self.omega is not None:
@@ -116,7 +116,6 @@ class Initial:
             if not 0.0 <= th <= math.pi:
                 raise ScenarioError("initial.theta0", self.theta0, "must be in [0, pi] rad")
             object.__setattr__(self, "theta0", th)
-        _choice("initial.mass_state", self.mass_state, MASS_STATES)
 
 
 @dataclass(frozen=True)

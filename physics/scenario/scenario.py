@@ -75,6 +75,7 @@ class Scenario:
         object.__setattr__(self, "run", run)
         object.__setattr__(self, "parts", present)
         object.__setattr__(self, "_system", self._find_system())
+        object.__setattr__(self, "initial", _own_start(initial, self._system))
         check = registry.get_system(self._system).check
         if check is not None:
             check(self)
@@ -207,6 +208,22 @@ class Scenario:
         for key, value in dotted.items():
             edit_dict(data, key, value, self)
         return Scenario.from_dict(data)
+
+
+def _own_start(initial: Initial, system: str) -> Initial:
+    """``initial`` without the keys another system owns (``System.initial_keys``): a value meaning what this
+    system does anyway is dropped, any other refused naming the owner."""
+    runs = registry.get_system(system)
+    for owner in registry.systems().values():
+        for key, neutral in owner.initial_keys.items():
+            value = getattr(initial, key)
+            if owner is runs or value is None:
+                continue
+            if value != neutral:
+                raise ScenarioError(f"initial.{key}", value, f"belongs to the {owner.label}; this scenario runs the "
+                                    f"{runs.label}, whose part starts at rest relative to the body: leave it out")
+            initial = dataclasses.replace(initial, **{key: None})
+    return initial
 
 
 def _read_capped(p: Path) -> bytes:

@@ -12,6 +12,15 @@ from physics.core.errors import ScenarioError
 from physics.scenario.params import _choice, nonneg, positive
 
 LAWS = ("K", "Jw")
+# initial.mass_state: "rest" puts the mass at O1 with no relative velocity (also when not given); "quasistatic" on
+# its forced (slow-manifold) motion, MODELS.md Part A section 3. The key sits in the shared [initial] table (every
+# shipped file and share link spells it so) but belongs to this system: System.initial_keys.
+MASS_STATES = ("rest", "quasistatic")
+
+
+def check_mass_state(sc) -> None:
+    if sc.initial.mass_state is not None:
+        _choice("initial.mass_state", sc.initial.mass_state, MASS_STATES)
 
 
 @dataclass(frozen=True)

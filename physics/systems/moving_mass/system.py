@@ -17,7 +17,7 @@ from physics.registry import Param, System, Table, register_system
 from physics.systems.moving_mass import closed_model, models  # noqa: F401  (registers the models)
 from physics.systems.moving_mass.accuracy import METHOD, averaged_error_bound, choose
 from physics.systems.moving_mass.models import quasi_static_displacement
-from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium
+from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium, check_mass_state
 from physics.systems.moving_mass.quantities import QUANTITIES
 from physics.systems.moving_mass.start import PART, STATE, start_part
 from physics.systems.moving_mass.validity import averaged_conditions, closed_form_available
@@ -55,6 +55,7 @@ PARAMS = (
 
 
 def check(sc) -> None:
+    check_mass_state(sc)
     if sc.mass is not None and sc.mass.m >= sc.body.M:
         raise ScenarioError("mass.m", sc.mass.m, f"must be less than body.M = {sc.body.M:g} (M is the total mass)")
 
@@ -170,5 +171,5 @@ SYSTEM = register_system(System(
     check=check, conditions=averaged_conditions, choose=choose, available=available, derived=derived,
     error_bounds=error_bounds, error_method=METHOD, edit=edit, values=values, amplitude=amplitude,
     parts={PART: STATE}, start_part=start_part, check_run=check_carrier, braking_time=braking_time,
-    quantities=QUANTITIES,
+    quantities=QUANTITIES, initial_keys={"mass_state": "rest"},
 ))

@@ -29,7 +29,7 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
         out.append(Condition("eps = |w0|/Omega", w / ms.Omega, EPS_MAX))
         if ms.chi > 0:
             out.append(Condition("chi |w0| / Omega^2", ms.chi * w / ms.Omega**2, COUPLING_MAX))
-        if sc.initial.mass_state == "rest":
+        if sc.initial.mass_state != "quasistatic":  # "rest", or not given
             # the averaged model ignores the free oscillation a resting mass starts with
             decay = w / ms.chi if ms.chi > 0 else float("inf")
             out.append(Condition("|w0|/chi (free oscillation decay)", decay, DECAY_MAX))
