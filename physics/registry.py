@@ -32,6 +32,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from physics.compiled.dispatch import KERNELS
+from physics.compiled.dispatch import rhs as compiled_rhs
 from physics.core.trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -170,9 +172,7 @@ class Model:
         if self.py_rhs is not None:
             self.py_rhs(t, np.asarray(y, dtype=float), p, out)
             return out
-        from physics.compiled.dispatch import rhs
-
-        rhs(self.kernel, t, np.asarray(y, dtype=float), p, out)
+        compiled_rhs(self.kernel, t, np.asarray(y, dtype=float), p, out)
         return out
 
 
@@ -316,6 +316,9 @@ def unregister_system(name: str) -> None:
 def register(model: Model) -> Model:
     if model.name in REGISTRY:
         raise ValueError(f"model {model.name!r} registered twice")
+    if model.kernel is not None and model.kernel not in KERNELS:
+        raise RegistrationError(f"model {model.name!r} of the system {model.system!r}: kernel id {model.kernel!r} is "
+                                f"not one physics/compiled/dispatch.py knows ({', '.join(map(str, KERNELS))})")
     REGISTRY[model.name] = model
     system = SYSTEMS.get(model.system) or _WAITING.get(model.system)
     if system is not None:

@@ -130,3 +130,17 @@ def test_pendulum_runs_on_fixed_step():
     from physics.compiled import fixed
 
     assert tr.info["nfev"] == fixed.TABLEAUS["RK8"].b.size * 500
+
+
+def test_an_unknown_kernel_id_gets_nan_or_a_fault_never_another_models_value():
+    """dispatch names every id it knows; an unknown one (registration refuses it) must not fall through to the
+    averaged model's |G| or any other model's numbers: the integrator then stops (NONFINITE or MODEL_FAULT)."""
+    unknown = max(dispatch.KERNELS) + 1
+    y, p, out = np.ones(7), np.ones(8), np.zeros(7)
+    dispatch.rhs(unknown, 0.0, y, p, out)
+    assert np.all(np.isnan(out))
+    assert np.isnan(dispatch.braking_norm(unknown, y, p))
+    assert dispatch.fault(unknown, y, p) == dispatch.UNKNOWN_KERNEL_FAULT > 0
+    assert dispatch.switch_chart(unknown, y, p) == 0  # nothing re-expressed
+    for known in (dispatch.MASS_AVERAGED, dispatch.MASS_AVERAGED_AXISYMMETRIC):
+        assert dispatch.fault(known, y, p) == 0  # a known id is not a fault

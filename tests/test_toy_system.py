@@ -18,6 +18,7 @@ import pytest
 import test_model_battery as battery
 
 import physics
+import physics.compiled.dispatch
 from physics.core.rotation import nutation_angle, rotate
 
 NAME = "rotor"
@@ -274,3 +275,12 @@ def test_a_borrowed_table_must_belong_to_a_system_registered_before():
         physics.register_system(dataclasses.replace(_toy_system("toy_borrow", "wheel2"), borrows=("nowhere",)))
     # the plane pendulums borrow the spherical pendulum's sliders: pendulum.k sets every [[plane_pendulum]]
     assert physics.get_system("plane_pendulums").borrows == ("pendulum",)
+
+
+def test_a_kernel_id_dispatch_does_not_know_is_refused_at_registration():
+    unknown = max(physics.compiled.dispatch.KERNELS) + 1
+    model = dataclasses.replace(_toy_model("toy_kernel"), py_rhs=None, kernel=unknown)
+    with pytest.raises(physics.RegistrationError, match=f"'toy_kernel/full' of the system 'toy_kernel': kernel id "
+                                                        f"{unknown} is not one physics/compiled/dispatch.py knows"):
+        physics.register_model(model)
+    assert "toy_kernel/full" not in physics.REGISTRY

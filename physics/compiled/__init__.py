@@ -1,4 +1,4 @@
-"""Compiled (numba, cache=True) right-hand sides and integrators. Nothing here imports models/.
+"""Compiled (numba, cache=True) right-hand sides and integrators. Nothing here imports physics/systems.
 
 numba invalidates a cached function only when its own file changes, not when a function it calls
 changes: after an edit to a kernel or to dispatch.py, the cached integrator would keep calling the

@@ -2,10 +2,15 @@
 
 numba caches a compiled function only when every function it calls is a module-level global, so
 the integrators call ``rhs(model, ...)`` below rather than taking the right-hand side as an
-argument. Registering a compiled model means adding a branch here and its id in models/.
+argument. Adding a compiled model means a new id in KERNELS, a branch for it in every function here, and the
+id on its Model (physics/systems/<system>/models.py). Each function names every id it knows; an id it does
+not know (which registration refuses: physics.registry checks a Model's kernel against KERNELS) gets NaN or a
+fault, never another model's value.
 """
 
 from __future__ import annotations
+
+import math
 
 from numba import njit
 
@@ -20,6 +25,9 @@ SPHERICAL_FULL = 2
 PLANE_FULL = 3
 MASS_AVERAGED_AXISYMMETRIC = 4  # the averaged model's slow (w_perp, w3) reduction, J*1 = J*2 only
 WHEEL_FULL = 5
+N_KERNELS = 6  # the ids above are 0 .. N_KERNELS - 1: a new kernel takes the next id and raises this
+KERNELS = tuple(range(N_KERNELS))  # every id known here (registration refuses any other)
+UNKNOWN_KERNEL_FAULT = 99  # fault()'s code for an id not in KERNELS
 
 
 @njit(cache=True)
@@ -34,6 +42,9 @@ def rhs(model, t, y, p, out):
         averaged_kernel.rhs_axisymmetric(t, y, p, out)
     elif model == WHEEL_FULL:
         wheel_kernel.rhs(t, y, p, out)
+    else:  # unknown: a non-finite rate stops the run (status NONFINITE)
+        for i in range(out.size):
+            out[i] = math.nan
 
 
 @njit(cache=True)
@@ -43,7 +54,9 @@ def fault(model, y, p):
     with status MODEL_FAULT."""
     if model == SPHERICAL_FULL:
         return pendulum_kernel.fault(y, p)
-    return 0
+    if 0 <= model < N_KERNELS:
+        return 0  # the other known models are defined everywhere
+    return UNKNOWN_KERNEL_FAULT
 
 
 @njit(cache=True)
@@ -53,7 +66,7 @@ def switch_chart(model, y, p):
     integrator must then evaluate the right-hand side afresh), else 0."""
     if model == SPHERICAL_FULL:
         return pendulum_kernel.switch_chart(y, p)
-    return 0
+    return 0  # one chart (an unknown id too: its rhs is NaN and fault() stops it)
 
 
 @njit(cache=True)
@@ -61,8 +74,10 @@ def braking_norm(model, y, p):
     """|G| for the braking law: the run ends when it reaches zero (seed 004 eq. (11))."""
     if model == MASS_FULL:
         return mass_full_kernel.braking_norm(y, p)
-    if model == SPHERICAL_FULL or model == PLANE_FULL or model == WHEEL_FULL:
-        return 1.0  # no braking law for the pendulum systems and the wheel
     if model == MASS_AVERAGED_AXISYMMETRIC:
         return averaged_kernel.braking_norm_axisymmetric(y, p)
-    return averaged_kernel.braking_norm(y, p)
+    if model == MASS_AVERAGED:
+        return averaged_kernel.braking_norm(y, p)
+    if 0 <= model < N_KERNELS:
+        return 1.0  # a known model with no braking law (the pendulums, the wheel)
+    return math.nan  # unknown
