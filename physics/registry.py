@@ -269,6 +269,21 @@ REGISTRY: dict[str, Model] = {}  # "system/fidelity" -> Model
 _WAITING: dict[str, System] = {}  # registered, its full model not yet
 _LOADING = threading.RLock()
 _LOADED = False
+# Bumped by every registration change: a view built from the registry (the scenario's table maps) is kept
+# until it changes, so reading a scenario's attribute costs a dict lookup, not a walk of every system's tables.
+_VERSION = 0
+_CHECKED = -1  # the version check_complete last passed
+_TABLES: tuple[int, list] = (-1, [])
+
+
+def version() -> int:
+    """The registry's version: it changes whenever a system or model is registered or removed."""
+    return _VERSION
+
+
+def _changed() -> None:
+    global _VERSION
+    _VERSION += 1
 
 
 def _check_params(system: System) -> None:
@@ -302,6 +317,7 @@ def register_system(system: System) -> System:
     for model in [m for m in REGISTRY.values() if m.system == system.name]:  # models registered first
         system.models[model.fidelity] = model
     _place(system)
+    _changed()
     return system
 
 
@@ -311,6 +327,7 @@ def unregister_system(name: str) -> None:
     _WAITING.pop(name, None)
     for key in [k for k, m in REGISTRY.items() if m.system == name]:
         del REGISTRY[key]
+    _changed()
 
 
 def register(model: Model) -> Model:
@@ -324,6 +341,7 @@ def register(model: Model) -> Model:
     if system is not None:
         system.models[model.fidelity] = model
         _place(system)
+    _changed()
     return model
 
 
@@ -360,9 +378,13 @@ def load_builtin() -> None:
 
 
 def _ready() -> None:
-    """Loaded, and every registration complete (checked on each read: a toy registered later is checked too)."""
+    """Loaded, and every registration complete (checked again after any change: a toy registered later too)."""
+    global _CHECKED
+    if _CHECKED == _VERSION and _LOADED:
+        return
     load_builtin()
     check_complete()
+    _CHECKED = _VERSION
 
 
 def systems() -> dict[str, System]:
@@ -381,5 +403,9 @@ def get_model(system: str, fidelity: str) -> Model:
 
 
 def tables() -> list[tuple[System, Table]]:
-    """Every registered system's tables, in registration order."""
-    return [(s, t) for s in systems().values() for t in s.tables]
+    """Every registered system's tables, in registration order (built once per registry version)."""
+    global _TABLES
+    _ready()
+    if _TABLES[0] != _VERSION:
+        _TABLES = (_VERSION, [(s, t) for s in SYSTEMS.values() for t in s.tables])
+    return _TABLES[1]

@@ -220,3 +220,30 @@ def test_rows_that_turn_non_finite_stop_the_run_and_the_last_good_row_stays():
     assert run.status == FAULT and "non-finite" in run.message
     assert len(tr) == 1 and np.isfinite(run.last.E).all() and run.last.t[-1] > good.t[-1]
     assert run.advance(0.1).t.size == 0  # ended: nothing more is integrated
+
+
+# Registry reads (calls of systems, get_system, get_model or tables, each of which checks the registry first) one
+# slider change may make. Measured with this test's counter: from_dict 0 and retune 5 for each system's example;
+# before the scenario kept its table maps per registry version, from_dict 20-28 and retune 13-21, each read of
+# tables() walking every system's tables.
+FROM_DICT_READS = 0
+RETUNE_READS = 8
+
+
+@pytest.mark.parametrize("system", ["moving_mass", "spherical_pendulum", "plane_pendulums"])
+def test_a_slider_change_reads_the_registry_a_few_times(system, monkeypatch):
+    from physics import registry
+
+    sc = physics.Scenario.from_toml(physics.get_system(system).example)
+    run = LiveRun(sc)
+    data = sc.to_dict()
+    table = next(t.name for t in physics.get_system(system).tables)
+    for block in data[table] if isinstance(data[table], list) else [data[table]]:
+        block["c_d" if "pendulum" in table else "chi"] *= 1.1
+    reads = []
+    ready = registry._ready
+    monkeypatch.setattr(registry, "_ready", lambda: (reads.append(1), ready())[1])
+    new = physics.Scenario.from_dict(data)
+    assert len(reads) <= FROM_DICT_READS
+    run.retune(new)
+    assert 0 < len(reads) <= FROM_DICT_READS + RETUNE_READS  # 0: the count would not see reads at all

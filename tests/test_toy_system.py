@@ -284,3 +284,18 @@ def test_a_kernel_id_dispatch_does_not_know_is_refused_at_registration():
                                                         f"{unknown} is not one physics/compiled/dispatch.py knows"):
         physics.register_model(model)
     assert "toy_kernel/full" not in physics.REGISTRY
+
+
+def test_the_scenarios_view_of_the_tables_follows_registration():
+    """The scenario keeps its table maps per registry version: a table registered after a scenario was read is
+    known at once, and gone once its system is removed."""
+    physics.Scenario.from_toml(EXAMPLE)  # the maps are built
+    toml = EXAMPLE.replace("[rotor]", "[wheel4]")
+    try:
+        physics.register_model(_toy_model("toy_late"))
+        physics.register_system(_toy_system("toy_late", "wheel4"))
+        assert physics.Scenario.from_toml(toml).system == "toy_late"
+    finally:
+        physics.unregister_system("toy_late")
+    with pytest.raises(physics.ScenarioError, match="wheel4 = .*unknown table"):
+        physics.Scenario.from_toml(toml)

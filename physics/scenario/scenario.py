@@ -35,21 +35,53 @@ BOM = "\ufeff"  # a UTF-8 byte-order mark, written by some editors: not part of 
 BASE = dict(zip(registry.SHARED_TABLES, (Body, Initial, Run), strict=True))
 
 
+@dataclass(frozen=True)
+class _Views:
+    """What a Scenario reads of the registry, built once per registry version (``registry.version``): a
+    slider change builds a few scenarios, each reading a dozen attributes; without this each read walked every
+    system's tables."""
+
+    version: int
+    sections: dict[str, type]  # TOML table -> its dataclass: body, the systems' tables, initial, run
+    arrays: frozenset[str]  # tables written [[name]]
+    absent: dict[str, object]  # Scenario attribute -> its value when the table is absent (None, or () for arrays)
+    attribute: dict[str, str]  # TOML table -> Scenario attribute
+    owner: dict[str, tuple[registry.System, registry.Table]]  # Scenario attribute -> (system, table)
+    systems: dict[str, registry.System]
+    default: str | None  # the system a bare body runs
+    initial_keys: tuple[tuple[registry.System, str, object], ...]  # (owner, [initial] key, the others' value)
+    renamed: dict[str, dict[str, str]]  # table -> {dataclass field: TOML key} where they differ
+
+
+_VIEWS: _Views | None = None
+
+
+def _views() -> _Views:
+    global _VIEWS
+    views = _VIEWS
+    if views is not None and views.version == registry.version():
+        return views
+    pairs = registry.tables()  # loads and checks the registry first
+    systems = dict(registry.systems())
+    sections = {"body": Body, **{t.name: t.cls for _, t in pairs}, "initial": Initial, "run": Run}
+    views = _Views(
+        version=registry.version(), sections=sections, arrays=frozenset(t.name for _, t in pairs if t.array),
+        absent={t.attribute: () if t.array else None for _, t in pairs},
+        attribute={t.name: t.attribute for _, t in pairs}, owner={t.attribute: (s, t) for s, t in pairs},
+        systems=systems, default=next((s.name for s in systems.values() if s.default), None),
+        initial_keys=tuple((s, k, v) for s in systems.values() for k, v in s.initial_keys.items()),
+        renamed={t.name: {f: k for k, f in t.renamed} for _, t in pairs})
+    _VIEWS = views
+    return views
+
+
 def sections() -> dict[str, type]:
     """TOML table -> its dataclass: body, every registered system's tables, initial, run."""
-    out = {"body": Body}
-    out.update({t.name: t.cls for _, t in registry.tables()})
-    out.update(initial=Initial, run=Run)
-    return out
+    return dict(_views().sections)
 
 
 def array_tables() -> set[str]:
-    return {t.name for _, t in registry.tables() if t.array}
-
-
-def _attributes() -> dict[str, tuple[str, object]]:
-    """Scenario attribute -> (table, value when absent) for the systems' tables."""
-    return {t.attribute: (t.name, () if t.array else None) for _, t in registry.tables()}
+    return set(_views().arrays)
 
 
 @dataclass(frozen=True, init=False)
@@ -65,7 +97,8 @@ class Scenario:
     parts: tuple[tuple[str, object], ...] = ()  # (attribute, value) of the tables present
 
     def __init__(self, body: Body, initial: Initial, run: Run, **parts):
-        known = _attributes()
+        views = _views()
+        known = views.absent
         for name in parts:
             if name not in known:
                 raise ScenarioError(name, "(table)", "unknown part; allowed: " + ", ".join(known))
@@ -74,9 +107,9 @@ class Scenario:
         object.__setattr__(self, "initial", initial)
         object.__setattr__(self, "run", run)
         object.__setattr__(self, "parts", present)
-        object.__setattr__(self, "_system", self._find_system())
-        object.__setattr__(self, "initial", _own_start(initial, self._system))
-        check = registry.get_system(self._system).check
+        object.__setattr__(self, "_system", self._find_system(views))
+        object.__setattr__(self, "initial", _own_start(initial, views.systems[self._system], views))
+        check = views.systems[self._system].check
         if check is not None:
             check(self)
 
@@ -86,26 +119,25 @@ class Scenario:
         for attr, value in object.__getattribute__(self, "parts"):
             if attr == name:
                 return value
-        known = _attributes()
-        if name in known:
-            return known[name][1]
+        absent = _views().absent
+        if name in absent:
+            return absent[name]
         raise AttributeError(f"Scenario has no attribute {name!r}")
 
-    def _find_system(self) -> str:
+    def _find_system(self, views: _Views) -> str:
         """The one system whose tables are present (the default system for a bare body)."""
-        owner = {t.attribute: (s, t) for s, t in registry.tables()}
+        owner = views.owner
         chosen = [(owner[a][0], owner[a][1]) for a, _ in self.parts if owner[a][1].selects]
         names = list(dict.fromkeys(s.name for s, _ in chosen))
         if len(names) > 1:
             first, second = chosen[0][1].name, next(t.name for s, t in chosen if s.name != names[0])
             raise ScenarioError(second, "(table)", f"cannot be combined with [{first}]: one internal part at a time")
         if not names:
-            kinds = [s for s in registry.systems().values() if s.default]
-            names = [owner[self.parts[0][0]][0].name] if self.parts else [kinds[0].name]
+            names = [owner[self.parts[0][0]][0].name] if self.parts else [views.default]
         for attr, _ in self.parts:
             s, t = owner[attr]
             if s.name != names[0]:
-                runs = registry.get_system(names[0]).label
+                runs = views.systems[names[0]].label
                 raise ScenarioError(t.name, "(table)", f"belongs to the {s.label}, not to the {runs} it runs")
         return names[0]
 
@@ -119,8 +151,8 @@ class Scenario:
     def from_dict(cls, data: dict) -> Scenario:
         if not isinstance(data, dict):
             raise ScenarioError("scenario", type(data).__name__, "must be a table of tables")
-        known, arrays = sections(), array_tables()
-        attribute = {t.name: t.attribute for _, t in registry.tables()}
+        views = _views()
+        known, arrays, attribute = views.sections, views.arrays, views.attribute
         kwargs = {}
         for table, value in data.items():
             if table not in known:
@@ -177,7 +209,7 @@ class Scenario:
     # ---- output -------------------------------------------------------------------------
     def to_dict(self) -> dict:
         out = {"body": _items("body", self.body)}
-        for _, t in registry.tables():
+        for _, t in _views().owner.values():
             section = getattr(self, t.attribute)
             if t.array and section:
                 out[t.name] = [_items(t.name, s) for s in section]
@@ -210,19 +242,17 @@ class Scenario:
         return Scenario.from_dict(data)
 
 
-def _own_start(initial: Initial, system: str) -> Initial:
+def _own_start(initial: Initial, runs: registry.System, views: _Views) -> Initial:
     """``initial`` without the keys another system owns (``System.initial_keys``): a value meaning what this
     system does anyway is dropped, any other refused naming the owner."""
-    runs = registry.get_system(system)
-    for owner in registry.systems().values():
-        for key, neutral in owner.initial_keys.items():
-            value = getattr(initial, key)
-            if owner is runs or value is None:
-                continue
-            if value != neutral:
-                raise ScenarioError(f"initial.{key}", value, f"belongs to the {owner.label}; this scenario runs the "
-                                    f"{runs.label}, whose part starts at rest relative to the body: leave it out")
-            initial = dataclasses.replace(initial, **{key: None})
+    for owner, key, neutral in views.initial_keys:
+        value = getattr(initial, key)
+        if owner is runs or value is None:
+            continue
+        if value != neutral:
+            raise ScenarioError(f"initial.{key}", value, f"belongs to the {owner.label}; this scenario runs the "
+                                f"{runs.label}, whose part starts at rest relative to the body: leave it out")
+        initial = dataclasses.replace(initial, **{key: None})
     return initial
 
 
@@ -310,9 +340,9 @@ def _name(key: object) -> str:
 
 def _toml_names(table: str) -> dict[str, str]:
     """TOML key -> dataclass field of one table."""
-    fields = [f.name for f in dataclasses.fields(sections()[table])]
-    back = {name: key for _, t in registry.tables() if t.name == table for key, name in t.renamed}
-    return {back.get(f, f): f for f in fields}
+    views = _views()
+    back = views.renamed.get(table, {})
+    return {back.get(f.name, f.name): f.name for f in dataclasses.fields(views.sections[table])}
 
 
 def _items(table: str, section) -> dict:
@@ -327,7 +357,7 @@ def _items(table: str, section) -> dict:
 
 def _build(table: str, values: dict, where: str | None = None):
     where = where or table
-    cls = sections()[table]
+    cls = _views().sections[table]
     names = _toml_names(table)
     kwargs = {}
     for key, value in values.items():
