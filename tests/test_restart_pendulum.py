@@ -57,7 +57,10 @@ def test_full_to_averaged_keeps_K_attitude_and_t_and_goes_on_as_a_fresh_solve(sc
     assert float(run.last.K[0]) == pytest.approx(np.linalg.norm(K0), rel=K_TOL)
     for name in ("alpha", "beta", "alpha_dot", "beta_dot"):
         assert run.last.internal[name][0] == 0.0, name  # the averaged solution starts its bob at rest
-    assert run.last.internal["W_diss"][0] == W0  # the dissipated work goes on from where it was
+    # the dissipated work goes on from where it was, bit for bit: the averaged solution's work at its own t = 0 is
+    # exactly zero by construction (it was the difference of two roundings of one quadratic form: on another
+    # machine 0.011830203245704694 came back as 0.0118302032457047)
+    assert run.last.internal["W_diss"][0] == W0
     assert run.energy_change == pytest.approx(float(run.last.E[0]) - E0, rel=1e-12)
     assert run.energy_change != 0.0  # the swing's energy is not in the bob at rest
 

@@ -107,7 +107,11 @@ def _dissipated(co: AveragedCoefficients, u0: np.ndarray, U: np.ndarray, t: np.n
 
         return p.c_d * co.lambda1**2 * cumulative_trapezoid(np.abs(U[:, 1]) ** 2, t, initial=0.0)
     quad = np.real(np.einsum("ni,ij,nj->n", U.conj(), X, U))
-    return p.c_d * co.lambda1**2 * (np.real(u0.conj() @ X @ u0) - quad)
+    work = p.c_d * co.lambda1**2 * (np.real(u0.conj() @ X @ u0) - quad)
+    # the integral from 0 to 0 is zero: set so, not left to the difference of two evaluations of the quadratic form
+    # (einsum and @ round differently, by machine), so a restart's carried work goes on bit for bit
+    work[np.asarray(t) == 0.0] = 0.0
+    return work
 
 
 @njit(cache=True)
