@@ -114,15 +114,17 @@ def test_seed004_presets_lie_on_their_figure_curve(stem):
 def test_seed004_fig1_presets_end_at_the_quoted_angles():
     """docs/figures.md quotes the Fig. 1 counterparts' end angles, 0.520 (oblate) and 1.032 rad (prolate) at
     k* = 0.1. These two numbers are REGRESSION PINS: they were read off this code's own runs when the page was
-    written, not off the paper. The outside check is eq. (24) of the paper: the preset's closed form must end
-    where the paper's curve for the same Gamma1, Gamma2, k* ends."""
+    written, not off the paper. Neither check here is an outside one: the curve is eq. (24) as this code writes it
+    (closed004.nutation_curve_24), so the first assertion ties the preset's coefficients to that curve and the
+    second pins the page's numbers; eq. (24) itself is checked against eq. (1) integrated numerically in
+    tests/test_closed_forms.py (test_eq24_matches_eq1)."""
     for shape, pinned in (("oblate", 0.520), ("prolate", 1.032)):
         _, sc = PRESETS[f"seed004_fig1_{shape}"]
         co = physics.coefficients(sc)
         assert co.k_star == pytest.approx(0.1, rel=1e-9)
         end = _closed_end(sc.with_values(**{"run.t_end": braking_tau_24(0.1) / co.lam}))
         _, curve = nutation_curve_24(F.THETA0_004, co.Gamma1, co.Gamma2, co.k_star)
-        assert end == pytest.approx(curve[-1], abs=1e-6)  # the paper's eq. (24)
+        assert end == pytest.approx(curve[-1], abs=1e-6)  # eq. (24) as closed004 writes it: consistency, not outside
         assert end == pytest.approx(pinned, abs=ANGLE_TOL)  # the figure page's quoted value still holds
 
 
