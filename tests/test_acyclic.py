@@ -112,13 +112,7 @@ def find_cycle(g: dict[str, set[str]]) -> list[str] | None:
     return None
 
 
-APP_CYCLE = "app's panel/export/record/drawing cycle, issue 22 point 1"
-
-
-@pytest.mark.parametrize("package", [
-    "physics",
-    pytest.param("app", marks=pytest.mark.xfail(strict=True, reason=APP_CYCLE)),
-])
+@pytest.mark.parametrize("package", ["physics", "app"])
 def test_no_import_cycle(package):
     cycle = find_cycle(graph(ROOT, package))
     assert cycle is None, "import cycle: " + " -> ".join(cycle)

@@ -2,10 +2,10 @@
 
 numba caches a compiled function only when every function it calls is a module-level global, so
 the integrators call ``rhs(model, ...)`` below rather than taking the right-hand side as an
-argument. Adding a compiled model means a new id in KERNELS, a branch for it in every function here, and the
-id on its Model (physics/systems/<system>/models.py). Each function names every id it knows; an id it does
-not know (which registration refuses: physics.registry checks a Model's kernel against KERNELS) gets NaN or a
-fault, never another model's value.
+argument. Adding a compiled model means the next id (and N_KERNELS raised), its branch in ``rhs`` (and in the
+other functions only where it has a fault, a chart or a braking law), and the id on its Model
+(physics/systems/<system>/models.py). An id outside KERNELS (which registration refuses: physics.registry
+checks a Model's kernel against it) gets NaN or a fault, never another model's value.
 """
 
 from __future__ import annotations
