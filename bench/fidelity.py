@@ -32,7 +32,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # full-model cost model for the step cap: DOP853 at rtol 1e-10 took ~70 steps per fast period on
 # assets/scenarios/oblate_settling.toml (6.6e6 steps over 95 000 periods of Omega); the pendulum ~40 per period
-STEPS_PER_PERIOD = {"moving_mass": 70.0, "spherical_pendulum": 40.0}
+STEPS_PER_PERIOD = {"moving_mass": 70.0, "spherical_pendulum": 40.0, "wheel": 40.0}
 MAX_STEPS = {True: 5e6, False: 2e7}  # quick / full study: the full model's estimated steps per scenario
 SAMPLES = 1001
 RTOL = 1e-10
@@ -54,7 +54,7 @@ N_SLOW = (0.5, 3.0)  # horizon in slow times (moving mass) or linear e-folding t
 COLUMNS = ["index", "system", "kind", "status", "note", "eps", "C_over_A", "B_over_A", "kappa", "eta", "theta0",
            "mass_state", "damping", "cavity", "medium", "braking", "detuning", "n_slow", "t_end", "fidelity",
            "actual_error", "estimate", "estimate_key", "ratio", "auto_fidelity", "auto_0.01", "auto_0.001",
-           "choose_s_0.01", "choose_s_0.001", "wall_full_s", "wall_s", "steps_full_est", "scenario"]
+           "choose_s_0.01", "choose_s_0.001", "wall_full_s", "wall_s", "steps_full_est", "J", "c", "axis3", "scenario"]
 
 
 # ---- the scenario generator (no simulation) ---------------------------------------------------------------
@@ -205,7 +205,60 @@ def pendulum_case(rng) -> tuple[dict, dict]:
         return data, desc
 
 
-def draw(seed: int, n: int) -> list[tuple[dict, dict]]:
+# the wheel damper's draw (``--system wheel``, its own set: the moving-mass and pendulum draws stay as they were).
+# Over the closed form's domain and past its edges, where the estimate must say it claims nothing
+WHEEL_C_OVER_A = (1.02, 2.0)  # oblate: the spin about e3 is the one the bearing leads to
+WHEEL_NEAR_SPHERE = (1.005, 1.05)
+WHEEL_PROLATE = (0.6, 0.98)  # an edge: the nutation grows, no claim
+WHEEL_J = (0.005, 0.3)  # kg m^2 with A = 1: the slider's range
+WHEEL_C = (0.005, 3.0)  # N m s, log-uniform; some draws have c = 0 (a free wheel)
+WHEEL_THETA0 = (0.003, 0.15)  # rad, log-uniform: past the closed form's 0.1
+WHEEL_EFOLDS = (0.3, 6.0)  # horizon in linear e-folding times of the nutation ...
+WHEEL_TURNS = (5.0, 4000.0)  # ... or in nutation periods (weak damping), past the estimate's 3000
+WHEEL_STIFF = 2e5  # t_end x the fastest linear rate (the wheel's relaxation): DOP853's steps stay ~5e4
+
+
+def wheel_case(rng) -> tuple[dict, dict]:
+    """(scenario dict, descriptors) of one wheel-damper draw: oblate (some near a sphere) or prolate, symmetric
+    or triaxial (B between A and C, some near the separatrix B ~ C), a transverse, axial or random axis, weak to
+    strong bearings, theta0 to 0.15 rad, horizons of a few e-folds or up to thousands of turns."""
+    import physics
+    from physics.systems.wheel import linear
+
+    while True:
+        r = rng.random()
+        ca = _uniform(rng, WHEEL_PROLATE if r < 0.1 else WHEEL_NEAR_SPHERE if r < 0.2 else WHEEL_C_OVER_A)
+        triaxial = rng.random() < 0.5
+        ba = 1.0 + _uniform(rng, (0.0, 0.3 if ca < 1 else min(0.3, 0.95 * (ca - 1.0)))) if triaxial else 1.0
+        k = rng.random()
+        axis = [1.0, 0.0, 0.0] if k < 0.3 else [0.0, 0.0, 1.0] if k < 0.4 else [float(x) for x in rng.normal(size=3)]
+        c = 0.0 if rng.random() < 0.08 else _loguniform(rng, WHEEL_C)
+        theta0 = _loguniform(rng, WHEEL_THETA0)
+        G0 = _uniform(rng, (1.0, 5.0))
+        data = {"body": {"A": 1.0, "B": ba, "C": ca, "M": 1.0},
+                "wheel": {"J": _loguniform(rng, WHEEL_J), "c": c, "axis": axis},
+                "initial": {"G0": G0, "theta0": theta0}, "run": {"t_end": 1.0, "samples": SAMPLES, "rtol": RTOL}}
+        sc = physics.Scenario.from_dict(data)
+        physics.get_system("wheel").check(sc)
+        mode = linear.nutation_mode(sc)
+        if mode is None:
+            continue
+        s = linear.exponents(sc)
+        by_efolds = mode.real < 0 and rng.random() < 0.7
+        t_end = (_uniform(rng, WHEEL_EFOLDS) / -mode.real if by_efolds
+                 else _loguniform(rng, WHEEL_TURNS) * 2 * math.pi / mode.imag)
+        # the full model's stiffness and the closed form's attitude budget (5e4 rad of turning)
+        t_end = min(t_end, WHEEL_STIFF / float(np.max(np.abs(s))), 5e4 / (G0 / min(1.0, ca)))
+        data["run"]["t_end"] = float(t_end)
+        desc = dict(system="wheel", kind=("oblate" if ca > 1 else "prolate") + (" triaxial" if triaxial else ""),
+                    C_over_A=ca, B_over_A=ba, J=data["wheel"]["J"], c=c, theta0=theta0,
+                    damping="none" if c == 0 else ("efolds" if by_efolds else "turns"), cavity=False,
+                    medium=False, braking=False, axis3=float(axis[2] / np.linalg.norm(axis)),
+                    n_slow=t_end * -mode.real, slow_time=1 / -mode.real if mode.real < 0 else math.inf)
+        return data, desc
+
+
+def draw(seed: int, n: int, system: str | None = None) -> list[tuple[dict, dict]]:
     """n (scenario dict, descriptors) pairs, deterministic for the seed: two thirds moving mass, one third
     pendulum. A draw the scenario code refuses is redrawn (counted in the descriptors as ``redraws``)."""
     import physics
@@ -214,7 +267,7 @@ def draw(seed: int, n: int) -> list[tuple[dict, dict]]:
     out = []
     redraws = 0
     while len(out) < n:
-        make = mass_case if len(out) % 3 != 2 else pendulum_case
+        make = wheel_case if system == "wheel" else mass_case if len(out) % 3 != 2 else pendulum_case
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
@@ -250,6 +303,10 @@ def full_steps_estimate(sc, desc: dict) -> float:
     d = physics.derived(sc)
     if desc["system"] == "moving_mass":
         fast = max(sc.mass.Omega, float(d.get("eps", 0.0)) * sc.mass.Omega)
+    elif desc["system"] == "wheel":
+        from physics.systems.wheel import linear
+
+        fast = max(abs(float(d["n"])), float(np.max(np.abs(linear.exponents(sc)))) / 10.0)
     else:
         fast = max(abs(float(d["omega_0"])), abs(float(d["lambda_2"])), abs(float(d["Omega"])))
     return STEPS_PER_PERIOD[desc["system"]] * sc.run.t_end * fast / (2 * math.pi)
@@ -309,7 +366,7 @@ def run_case(args) -> list[dict]:
         steps = max_steps
     d = physics.derived(sc)
     keys = ("system", "kind", "C_over_A", "B_over_A", "kappa", "eta", "theta0", "mass_state", "damping",
-            "cavity", "medium", "braking", "detuning")
+            "cavity", "medium", "braking", "detuning", "J", "c", "axis3")
     base = dict(index=index, **{k: desc.get(k, "") for k in keys},
                 eps=d.get("eps", ""), t_end=sc.run.t_end, auto_fidelity=d.get("auto_fidelity", ""),
                 scenario=json.dumps(data, separators=(",", ":")))
@@ -395,7 +452,7 @@ def chart(rows: list[dict], path: Path, title: str) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5), gridspec_kw=dict(width_ratios=[3, 2]))
     ax, bx = axes
     markers = {"averaged": "o", "closed": "s", "linear": "^"}
-    colors = {"moving_mass": "tab:blue", "spherical_pendulum": "tab:red"}
+    colors = {"moving_mass": "tab:blue", "spherical_pendulum": "tab:red", "wheel": "tab:green"}
     lo, hi = math.inf, 0.0
     for i, (system, fid) in enumerate(groups):
         g = [r for r in ok if (r["system"], r["fidelity"]) == (system, fid)]
@@ -462,8 +519,8 @@ def summary(rows: list[dict]) -> dict:
 def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, command: str,
         system: str | None = None) -> dict:
     start = time.perf_counter()
-    cases = draw(seed, n)
-    if system is not None:  # the same draws as the whole study, only this system's
+    cases = draw(seed, n, system)
+    if system is not None:  # the same draws as the whole study, only this system's (the wheel has its own)
         cases = [c for c in cases if c[1]["system"] == system]
     jobs = [(i, data, desc, MAX_STEPS[quick]) for i, (data, desc) in enumerate(cases)]
     rows: list[dict] = []
@@ -475,7 +532,7 @@ def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, comm
         for job in jobs:
             rows.extend(run_case(job))
             print(f"  scenario {job[0] + 1}/{len(jobs)}: {rows[-1]['system']} {rows[-1]['status']}", flush=True)
-    stem = "fidelity_quick" if quick else "fidelity"
+    stem = ("fidelity_wheel" if system == "wheel" else "fidelity") + ("_quick" if quick else "")
     out.mkdir(parents=True, exist_ok=True)
     with (out / f"{stem}.csv").open("w", newline="") as f:
         w = csv.DictWriter(f, COLUMNS, extrasaction="ignore")
@@ -499,8 +556,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results", help="CSV and meta JSON folder")
     ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img", help="chart folder")
     ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
-    ap.add_argument("--system", choices=("moving_mass", "spherical_pendulum"), default=None,
-                    help="run only this system's scenarios of the drawn set")
+    ap.add_argument("--system", choices=("moving_mass", "spherical_pendulum", "wheel"), default=None,
+                    help="run only this system's scenarios of the drawn set; wheel: its own set, written to "
+                         "fidelity_wheel[_quick].csv")
     a = ap.parse_args(argv)
     n = a.n if a.n is not None else (40 if a.quick else 300)
     if n < 1:

@@ -10,7 +10,7 @@ import numpy as np
 from physics.core.errors import ScenarioError
 from physics.registry import Condition, Param, System, Table, register_system
 from physics.scenario.initial import initial_G
-from physics.systems.wheel import linear, models  # noqa: F401  (registers the models)
+from physics.systems.wheel import accuracy, linear, models  # noqa: F401  (registers the models)
 from physics.systems.wheel.figure import figure
 from physics.systems.wheel.params import Wheel
 
@@ -54,6 +54,12 @@ def conditions(sc) -> list[Condition]:
     growth = float(np.max(s.real)) * sc.run.t_end
     return [Condition("theta0 (rad)", theta0, THETA_MAX), Condition("linear growth max Re(s) t_end", growth,
                                                                      GROWTH_MAX)]
+
+
+def error_bounds(sc, fidelity: str) -> float | None:
+    """The closed form's estimated max |theta - theta_full| over [0, t_end] (rad, ``accuracy``), None for any
+    other fidelity, outside the calibrated domain or where the closed form's conditions fail."""
+    return accuracy.closed_error_bound(sc) if fidelity == "closed" else None
 
 
 def choose(sc) -> tuple[str, str]:
@@ -144,5 +150,6 @@ SYSTEM = register_system(System(
     summary="a wheel turning about a body-fixed axis in a viscous bearing (docs/models.md Part C)",
     tables=(Table("wheel", Wheel),), example=EXAMPLE, params=PARAMS, folders=(FOLDER,),
     check=check, conditions=conditions, choose=choose, available=available, derived=derived, values=values,
+    error_bounds=error_bounds, error_method=accuracy.METHOD,
     amplitude=amplitude, parts={"wheel": models.WHEEL}, quantities=QUANTITIES, figure=figure,
 ))
