@@ -44,12 +44,6 @@ def test_the_closed_form_runs_live_and_says_it_starts_where_the_full_model_does(
     assert run.status == "running" and len(rows) == 4 and np.all(np.isfinite(rows.theta))
 
 
-def test_auto_keeps_the_full_model_without_a_calibrated_estimate():
-    sc = scene(0.01)
-    assert physics.derived(sc)["auto_fidelity"] == "full"
-    assert physics.get_system("wheel").error_bounds(sc, "closed") is None
-
-
 def test_a_spin_about_the_smallest_moment_grows_and_fails_the_closed_forms_conditions():
     """With a damper, spin about the smallest moment is unstable (the energy sink drives it to a flat spin): the
     linear theory's nutation grows, and its growth condition says the closed form is not to be trusted."""

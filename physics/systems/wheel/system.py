@@ -10,6 +10,7 @@ import numpy as np
 from physics.core.errors import ScenarioError
 from physics.registry import Condition, Param, System, Table, register_system
 from physics.scenario.initial import initial_G
+from physics.systems.choice import cheapest_within
 from physics.systems.wheel import accuracy, linear, models  # noqa: F401  (registers the models)
 from physics.systems.wheel.figure import figure
 from physics.systems.wheel.params import Wheel
@@ -63,9 +64,9 @@ def error_bounds(sc, fidelity: str) -> float | None:
 
 
 def choose(sc) -> tuple[str, str]:
-    """The full model: the linear theory has no calibrated error estimate (``error_bounds``) that auto could
-    trust."""
-    return "full", "the linear theory has no calibrated error estimate; the full model is cheap"
+    """``auto``'s pick: the closed form when its conditions hold and its error estimate meets run.accuracy
+    (physics.systems.choice.DEFAULT_ACCURACY when unset), else the full model, and why."""
+    return cheapest_within(sc, [c for c in conditions(sc) if not c.holds])
 
 
 def derived(sc) -> dict[str, float | str]:
