@@ -108,7 +108,7 @@ def perturbation(L: np.ndarray, u0: np.ndarray, t: np.ndarray) -> tuple[np.ndarr
 
 def _attitude(L: np.ndarray, u0: np.ndarray, n: float, t: np.ndarray) -> np.ndarray:
     """q' = q (x) (0, w)/2 with the linear w(t), by the fourth-order Magnus method on Gauss points; identity at 0."""
-    omega_max = abs(n) + float(np.linalg.norm(u0[:3])) * 10.0 + 1e-300
+    omega_max = abs(n) + float(np.linalg.norm(u0)) * 10.0 + 1e-300
     dt = np.diff(t, prepend=0.0)
     n_float = np.maximum(np.ceil(dt * omega_max / QUAT_STEP), 1.0)
     if not float(np.sum(n_float)) <= MAX_SUBSTEPS:
@@ -140,13 +140,15 @@ def _attitude(L: np.ndarray, u0: np.ndarray, n: float, t: np.ndarray) -> np.ndar
     return normalize(out)
 
 
-def solve_linear(sc: Scenario, t: np.ndarray) -> Trajectory:
+def solve_linear(sc: Scenario, t: np.ndarray, Omega_w0: float = 0.0) -> Trajectory:
     """The linear theory's trajectory at times t (s): w = n e3 + (x, y, z), the wheel's rate and angle from the
-    modes of ``matrix``, the attitude by Magnus steps; K and E from the exact formulas at that state."""
+    modes of ``matrix``, the attitude by Magnus steps; K and E from the exact formulas at that state. The wheel
+    starts at rest relative to the body, or at the rate ``Omega_w0`` (rad/s) where a run is restarted
+    (restart.py)."""
     t = np.asarray(t, dtype=float)
     L, n = scenario_matrix(sc)
     w0, _, _ = initial_G(sc)
-    u0 = np.array([w0[0], w0[1], 0.0, 0.0])
+    u0 = np.array([w0[0], w0[1], 0.0, Omega_w0])
     d, phi = perturbation(L, u0, t)
     b, wh = sc.body, sc.wheel
     I = np.array([b.A, b.B, b.C])
@@ -169,6 +171,12 @@ def initial_momentum(sc: Scenario, G: float) -> np.ndarray:
     return G * Iw / np.linalg.norm(Iw)
 
 
+def _restart(*args, **kwargs):
+    from physics.systems.wheel.restart import restart_closed  # it imports this module
+
+    return restart_closed(*args, **kwargs)
+
+
 CLOSED = register(Model(
     name="wheel/closed", system="wheel", fidelity="closed",
     summary="linear theory about steady spin about e3: the modes of the linearized equations, in closed form "
@@ -176,4 +184,5 @@ CLOSED = register(Model(
     solve=solve_linear, columns=("phi_w", "Omega_w", "W_diss"),
     proxy="full",  # its rows (w, the wheel's angle and rate, the attitude) read as the full model's state
     initial_momentum=initial_momentum,
+    restart=_restart,  # K, the attitude and the wheel's rate kept (restart.py)
 ))
