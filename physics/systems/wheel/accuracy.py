@@ -185,11 +185,9 @@ def domain(sc) -> list[Condition]:
 
 
 def closed_error_bound(sc) -> float | None:
-    """Estimated max |theta_closed - theta_full| (rad) over [0, t_end]; None outside the domain or where the
-    closed form's own conditions fail (physics.systems.wheel.system.conditions)."""
-    from physics.systems.wheel.system import conditions
-
-    if any(not c.holds for c in conditions(sc) + domain(sc)):
+    """Estimated max |theta_closed - theta_full| (rad) over [0, t_end]; None outside the domain. The closed
+    form's own conditions are the caller's to check (system.error_bounds)."""
+    if any(not c.holds for c in domain(sc)):
         return None
     b = parts(sc).bound
     return b if math.isfinite(b) else None

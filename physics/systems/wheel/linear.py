@@ -28,6 +28,7 @@ from physics.core.trajectory import Trajectory
 from physics.registry import Model, register
 from physics.scenario.initial import initial_G
 from physics.scenario.scenario import Scenario
+from physics.systems.wheel.restart import restart_closed
 
 BLOCK = (0, 1, 3)  # x, y, Omega_w: the closed part of (x, y, z, Omega_w)
 QUAT_STEP = 0.05  # rad of rotation per Magnus step of the attitude (exact for constant w: the wobble sets it)
@@ -171,12 +172,6 @@ def initial_momentum(sc: Scenario, G: float) -> np.ndarray:
     return G * Iw / np.linalg.norm(Iw)
 
 
-def _restart(*args, **kwargs):
-    from physics.systems.wheel.restart import restart_closed  # it imports this module
-
-    return restart_closed(*args, **kwargs)
-
-
 CLOSED = register(Model(
     name="wheel/closed", system="wheel", fidelity="closed",
     summary="linear theory about steady spin about e3: the modes of the linearized equations, in closed form "
@@ -184,5 +179,5 @@ CLOSED = register(Model(
     solve=solve_linear, columns=("phi_w", "Omega_w", "W_diss"),
     proxy="full",  # its rows (w, the wheel's angle and rate, the attitude) read as the full model's state
     initial_momentum=initial_momentum,
-    restart=_restart,  # K, the attitude and the wheel's rate kept (restart.py)
+    restart=restart_closed,  # K, the attitude and the wheel's rate kept (restart.py)
 ))

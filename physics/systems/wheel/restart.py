@@ -12,7 +12,8 @@ and the closed form is evaluated from that omega and Omega_w at s = t - t0, with
 At s = 0 the closed form's state is the carried state itself, so its K (exact at its state, I omega + J Omega_w
 a) is R(q)^-1 K to rounding and E is the carried state's: a fidelity switch changes neither, and the bearing's c
 enters neither. The wheel's angle and the dissipated work go on from where they were.
-``restart_closed`` is the closed Model's ``restart`` hook (physics/systems/restart.py).
+``restart_closed`` is the closed Model's ``restart`` hook (physics/systems/restart.py); the Model's ``solve``
+(linear.solve_linear) takes the wheel's initial rate.
 """
 
 from __future__ import annotations
@@ -29,7 +30,6 @@ from physics.registry import Model, get_model
 from physics.scenario.scenario import Scenario
 from physics.systems.carry import Carried, carry_state, state_names
 from physics.systems.restart import ClosedOrigin
-from physics.systems.wheel import linear
 
 COUNTERS = ("phi_w", "W_diss")  # what the closed form starts at zero but the run has accumulated
 
@@ -41,7 +41,7 @@ class WheelOrigin(ClosedOrigin):
     Omega_w0: float = 0.0
 
     def evaluate(self, model: Model, times: np.ndarray) -> Trajectory:
-        return super().evaluate(replace(model, solve=partial(linear.solve_linear, Omega_w0=self.Omega_w0)), times)
+        return super().evaluate(replace(model, solve=partial(model.solve, Omega_w0=self.Omega_w0)), times)
 
 
 def restart_closed(old_model: Model, old_p: np.ndarray, old_sc: Scenario, y_old: np.ndarray | None,

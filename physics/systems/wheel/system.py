@@ -60,7 +60,9 @@ def conditions(sc) -> list[Condition]:
 def error_bounds(sc, fidelity: str) -> float | None:
     """The closed form's estimated max |theta - theta_full| over [0, t_end] (rad, ``accuracy``), None for any
     other fidelity, outside the calibrated domain or where the closed form's conditions fail."""
-    return accuracy.closed_error_bound(sc) if fidelity == "closed" else None
+    if fidelity != "closed" or any(not c.holds for c in conditions(sc)):
+        return None
+    return accuracy.closed_error_bound(sc)
 
 
 def choose(sc) -> tuple[str, str]:
