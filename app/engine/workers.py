@@ -228,8 +228,8 @@ class BadgeStop:
     second or more in Python (1.1 s for 24 bobs). So ``set`` raises
     BadgeCancelled in the thread running a unit (CPython's PyThreadState_SetAsyncExc: it fires at that thread's
     next bytecode boundary, once a numpy call in progress returns). It is sent only while the thread is inside
-    ``run`` (under the lock), and ``run`` clears any still pending as it leaves, so it never fires outside the
-    worker's handler."""
+    ``run`` (under the lock), and one still pending as the unit returns fires as ``run`` leaves (``_let_fire``),
+    so it never fires outside the worker's handler."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
@@ -259,7 +259,18 @@ class BadgeStop:
         finally:
             with self._lock:
                 self._inside = None
-                _async_raise(threading.get_ident(), None)  # an interrupt sent as fn returned: drop it
+                sent = self.interrupts > 0
+            if sent:  # an interrupt sent as fn returned fires here, inside the worker's handler
+                _let_fire()
+
+
+def _let_fire() -> None:
+    """Run a few bytecode boundaries, where an asynchronous exception still pending for this thread is raised.
+    Clearing one instead (PyThreadState_SetAsyncExc with NULL) leaves CPython 3.11's eval breaker signalled for
+    the whole interpreter, and then any profiler or tracer (sys.setprofile, cProfile) spins forever at the next
+    function call of every thread: only raising it clears the signal."""
+    for _ in range(64):
+        pass
 
 
 def _async_raise(thread_id: int, exc: type[BaseException] | None) -> bool:
