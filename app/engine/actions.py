@@ -243,8 +243,9 @@ ACTIONS = {
 
 def with_choices(sc: physics.Scenario, fidelity: str, accuracy: float | None, pivot: str) -> physics.Scenario:
     """``sc`` with the panel's choices, kept across slider edits: the fidelity, auto's accuracy and a spherical
-    pendulum's pivot (a scene without one keeps the choice for a later one)."""
-    sc = sc.replace(run=dataclasses.replace(sc.run, fidelity=fidelity, accuracy=accuracy))
+    pendulum's pivot (a scene without one keeps the choice for a later one). ``sc`` itself when it has them."""
+    if (sc.run.fidelity, sc.run.accuracy) != (fidelity, accuracy):
+        sc = sc.replace(run=dataclasses.replace(sc.run, fidelity=fidelity, accuracy=accuracy))
     if sc.pendulum is not None and sc.pendulum.pivot != pivot:
         sc = sc.replace(pendulum=dataclasses.replace(sc.pendulum, pivot=pivot))
     return sc

@@ -118,6 +118,7 @@ class Guard:
         self._echo: dict[str, tuple[float, float | None]] = {}  # key -> (value to drop, applied at)
         self.note: Note | None = None
         self.rejections: list[str] = []  # physics's reasons for the values the last screen rejected
+        self.screened: physics.Scenario | None = None  # what the last screen built with the values it accepted
         self.revert: dict[str, float] = {}  # sliders the session pushes back to these (last good) values
         self.undo: list[Snapshot] = []
         self._chain: str | None = None  # key of the change in progress (a drag): later values extend it
@@ -164,24 +165,29 @@ class Guard:
     # ---- loop thread ---------------------------------------------------------------------------------
     def screen(self, base: physics.Scenario, changes: dict, pending: dict, values: dict) -> dict:
         """``pending`` without the values physics rejects, out-of-range values clamped. Sets ``note`` (the
-        last one wins), ``revert`` (sliders to push back) and the rejections' text (``rejections``)."""
+        last one wins), ``revert`` (sliders to push back) and the rejections' text (``rejections``), and
+        ``screened``: the scenario ``base`` becomes with the accepted values, built while judging the last of
+        them (None when a value was let through unjudged), so that applying them need not build it again."""
         accepted: dict = {}
         self.rejections = []
+        self.screened = None
         fresh = False
         for full_key, value in pending.items():
             key = full_key.partition("#")[0]
             if key not in controls.BY_KEY or not _number(value):
                 accepted[full_key] = value  # not a slider value: apply_changes judges it
+                self.screened = None
                 continue
-            reason = _invalid(base, changes, accepted, full_key, value)
+            reason, built = _judged(base, changes, accepted, full_key, value)
             lo, hi = self.limits.get(key, (-math.inf, math.inf))
             if reason is None and not lo <= value <= hi:
                 used = min(max(value, lo), hi)
-                reason = _invalid(base, changes, accepted, full_key, used)
+                reason, built = _judged(base, changes, accepted, full_key, used)
                 if reason is None:
                     self.note, fresh = Note(key, "clamped", clamped_text(key, value, lo, hi, used)), True
                     self.revert[key] = used
                     accepted[full_key] = used
+                    self.screened = built  # with every value accepted so far
                     continue
             if reason is not None:
                 kept = values.get(key)
@@ -191,6 +197,7 @@ class Guard:
                     self.revert[key] = kept
                 continue
             accepted[full_key] = value
+            self.screened = built  # with every value accepted so far
             self.revert.pop(key, None)  # a good value typed since: nothing to set back
         if accepted and not fresh:
             self.note = None  # an accepted edit: an older note no longer describes the panel
@@ -285,12 +292,12 @@ class Snapshot:
         return float(run.t)
 
 
-def _invalid(base, changes, accepted, full_key, value) -> str | None:
+def _judged(base, changes, accepted, full_key, value) -> tuple[str | None, physics.Scenario | None]:
+    """(why physics rejects ``value``, None) or (None, the scenario with it and the values accepted before)."""
     try:
-        controls.apply_changes(base, controls.merge_changes(changes, {**accepted, full_key: value}))
+        return None, controls.apply_changes(base, controls.merge_changes(changes, {**accepted, full_key: value}))
     except physics.ScenarioError as exc:
-        return str(exc)
-    return None
+        return str(exc), None
 
 
 def rewind(buffer, t: float) -> None:

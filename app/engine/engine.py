@@ -50,6 +50,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
 
     def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
         self._lock = threading.Lock()
+        self._chosen: tuple | None = None  # (base, choices, the base with them): see _chosen_base
         self._pending: dict = {}
         self._actions: list[str] = []
         self.change_seq = 0  # bumped by every GUI change
@@ -222,21 +223,32 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
             guard.revert[key] = self.values[key]
         if not pending:
             return
-        accepted = guard.screen(self.base, self.changes, pending, self.values)
+        accepted = guard.screen(self._chosen_base(), self.changes, pending, self.values)
         if accepted:
             saved = guard.before_change(accepted, self)
             try:
-                self._apply_values(accepted)
+                self._apply_values(accepted, guard.screened)
             except Exception as exc:
                 guard.failed(accepted, saved, self.values, exc)
                 raise
         if guard.rejections:
             self.error = guard.rejections[-1]  # shown beside the slider (the panel omits it at the top)
 
-    def _apply_values(self, pending: dict) -> None:
+    def _chosen_base(self) -> physics.Scenario:
+        """The scene as loaded with the panel's run-level choices: what slider changes apply to. Built again
+        only when the base or a choice changes, so that a slider change builds and validates its scenario
+        once (the screen's build is the one applied)."""
+        choices = (self.fidelity_choice, self.accuracy_choice, self.pivot_choice)
+        if self._chosen is None or self._chosen[0] is not self.base or self._chosen[1] != choices:
+            self._chosen = (self.base, choices, with_choices(self.base, *choices))
+        return self._chosen[2]
+
+    def _apply_values(self, pending: dict, sc: physics.Scenario | None = None) -> None:
+        """Apply slider values; ``sc``: the scenario they make, when the screen has built it already."""
         changes = controls.merge_changes(self.changes, pending)
-        sc = controls.apply_changes(self.base, changes)  # ScenarioError leaves everything as it was
-        sc = with_choices(sc, self.fidelity_choice, self.accuracy_choice, self.pivot_choice)
+        if sc is None:
+            sc = controls.apply_changes(self._chosen_base(), changes)  # ScenarioError leaves everything as it was
+        sc = with_choices(sc, self.fidelity_choice, self.accuracy_choice, self.pivot_choice)  # a part a change added
         restart = self.restart_on_change or controls.restarts(pending)
         kept = self.run.retune(sc, keep_state=not restart)
         self.changes = changes
