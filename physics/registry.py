@@ -97,11 +97,14 @@ class Table:
 
 @dataclass(frozen=True)
 class Condition:
-    """One validity condition: a number compared with a limit (``value <= limit`` holds)."""
+    """One validity condition: a number compared with a limit (``value <= limit`` holds). ``name`` is its
+    formula as the papers write it; ``sentence`` what it means for the motion, in words for a person (the
+    explorer shows it; every condition a system gives has one, which the figure battery checks)."""
 
     name: str
     value: float
     limit: float
+    sentence: str = ""
 
     @property
     def holds(self) -> bool:
@@ -212,7 +215,8 @@ class System:
     when the system has no law for it. ``quantities``: (unit, meaning) of ``derived``'s keys for ``physics
     info``; ``quantity(name)`` the same for keys built at run time (one per pendulum), or None.
     ``figure(sc, state, view)`` the part's picture as plain primitives in body coordinates
-    (physics/core/figure.py); ``actions`` the controls it adds beyond its sliders (``figure.Action``).
+    (physics/core/figure.py; ``state`` a run's internal coordinates at one row, ``view`` a ``figure.View``);
+    ``actions`` the controls it adds beyond its sliders (``figure.Action``).
     """
 
     name: str

@@ -69,12 +69,13 @@ def domain(sc: Scenario) -> list[Condition]:
     ms, A, C = sc.mass, sc.body.A, sc.body.C
     th0 = min(co.theta0, math.pi - co.theta0)
     chi = ms.chi / ms.Omega
-    return [Condition("eps = |w0|/Omega", co.omega0 / ms.Omega, DOMAIN_EPS),
-            Condition("m rho^2 / A", ms.m * ms.rho * ms.rho / A, DOMAIN_KAPPA),
-            Condition("1 / |1 - C/A|", 1.0 / max(abs(1.0 - C / A), 1e-300), 1.0 / DOMAIN_ASPHERICITY),
-            Condition("min(theta0, pi - theta0)", th0, DOMAIN_THETA0),
-            Condition("Omega / chi", 1.0 / max(chi, 1e-300), 1.0 / DOMAIN_CHI[0]),
-            Condition("chi / Omega", chi, DOMAIN_CHI[1])]
+    return [Condition("eps = |w0|/Omega", co.omega0 / ms.Omega, DOMAIN_EPS, "the spring is fast next to the spin"),
+            Condition("m rho^2 / A", ms.m * ms.rho * ms.rho / A, DOMAIN_KAPPA, "the mass is light next to the body"),
+            Condition("1 / |1 - C/A|", 1.0 / max(abs(1.0 - C / A), 1e-300), 1.0 / DOMAIN_ASPHERICITY,
+                      "the body is not too close to a sphere"),
+            Condition("min(theta0, pi - theta0)", th0, DOMAIN_THETA0, "the start is not too close to a flat spin"),
+            Condition("Omega / chi", 1.0 / max(chi, 1e-300), 1.0 / DOMAIN_CHI[0], "the mass's damper is not too light"),
+            Condition("chi / Omega", chi, DOMAIN_CHI[1], "the mass's damper is not too heavy")]
 
 
 def slow_path(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

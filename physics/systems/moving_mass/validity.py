@@ -17,6 +17,8 @@ DECAY_MAX = 0.3  # chi w >> w^2: free oscillations die within a fraction of a re
 RE_MAX = 0.1  # Stokes flow in the cavity
 SLOW_MAX = 0.1  # b/G and lambda small next to w
 ASYM_MAX = 1e-9  # A = B
+FAST_SPRING = "the spring is fast next to the spin"  # eps's words, here and in the error estimate's domain
+SYMMETRIC = "the body is nearly symmetric (A close to B)"
 
 
 @_ieee
@@ -26,20 +28,24 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
     out = []
     if sc.mass is not None:
         ms = _floats(sc.mass)
-        out.append(Condition("eps = |w0|/Omega", w / ms.Omega, EPS_MAX))
+        out.append(Condition("eps = |w0|/Omega", w / ms.Omega, EPS_MAX, FAST_SPRING))
         if ms.chi > 0:
-            out.append(Condition("chi |w0| / Omega^2", ms.chi * w / ms.Omega**2, COUPLING_MAX))
+            out.append(Condition("chi |w0| / Omega^2", ms.chi * w / ms.Omega**2, COUPLING_MAX,
+                                 "the damping of the mass is light"))
         if sc.initial.mass_state != "quasistatic":  # "rest", or not given
             # the averaged model ignores the free oscillation a resting mass starts with
             decay = w / ms.chi if ms.chi > 0 else float("inf")
-            out.append(Condition("|w0|/chi (free oscillation decay)", decay, DECAY_MAX))
+            out.append(Condition("|w0|/chi (free oscillation decay)", decay, DECAY_MAX,
+                                     "the mass's start-up wobble dies out quickly"))
     if sc.cavity is not None:
-        out.append(Condition("Re = a0^2 |w0| / nu", sc.cavity.a0 * sc.cavity.a0 * w / sc.cavity.nu, RE_MAX))
+        out.append(Condition("Re = a0^2 |w0| / nu", sc.cavity.a0 * sc.cavity.a0 * w / sc.cavity.nu, RE_MAX,
+                             "the fluid in the cavity flows slowly (viscous)"))
     if sc.medium is not None:
-        out.append(Condition("lambda / |w0|", co.lam / w, SLOW_MAX))
+        out.append(Condition("lambda / |w0|", co.lam / w, SLOW_MAX, "the medium slows the spin only a little per turn"))
     if sc.control is not None:
-        out.append(Condition("b / (G0 |w0|)", co.b / (co.G0 * w), SLOW_MAX))
-    out.append(Condition("|A - B| / A", abs(sc.body.A - sc.body.B) / sc.body.A, ASYM_MAX))
+        out.append(Condition("b / (G0 |w0|)", co.b / (co.G0 * w), SLOW_MAX,
+                             "the brake slows the spin only a little per turn"))
+    out.append(Condition("|A - B| / A", abs(sc.body.A - sc.body.B) / sc.body.A, ASYM_MAX, SYMMETRIC))
     return out
 
 
@@ -63,5 +69,6 @@ def structural_failures(sc: Scenario) -> list[Condition]:
     quadratic friction (the estimate is not calibrated for it)."""
     failed = [c for c in averaged_conditions(sc) if not c.holds and c.name.startswith(STRUCTURAL)]
     if sc.mass is not None and sc.mass.lam_q > 0:
-        failed.append(Condition("lam_q (quadratic friction: no calibrated error estimate)", sc.mass.lam_q, 0.0))
+        failed.append(Condition("lam_q (quadratic friction: no calibrated error estimate)", sc.mass.lam_q, 0.0,
+                                "the mass has no quadratic friction (no error estimate covers it)"))
     return failed

@@ -46,16 +46,18 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
     A, B, _ = np.diag(system.I_c)
     p = spherical_linear(system)
     if not p.omega0 > 0:  # no spring: no resonance to average about
-        return [Condition("1/omega_0 (k = 0: no spring frequency)", math.inf, 0.0)]
-    out = [Condition("|A - B| / A", abs(A - B) / A, ASYM_MAX),
-           Condition("mu D^2 / A", p.coupling, COUPLING_MAX)]
+        return [Condition("1/omega_0 (k = 0: no spring frequency)", math.inf, 0.0, "the pendulum has a spring")]
+    out = [Condition("|A - B| / A", abs(A - B) / A, ASYM_MAX, "the body is nearly symmetric (A close to B)"),
+           Condition("mu D^2 / A", p.coupling, COUPLING_MAX, "the pendulum is light next to the body")]
     if all(c.holds for c in out):
         q = scenario_parts(sc)
         if not math.isfinite(q.a):  # far from resonance the averaged model may even grow, and overflow over t_end
-            return out + [Condition("error estimate finite over t_end (a model's mode grows)", math.inf, 0.0)]
-        out += [Condition("pendulum swing (linear theory, rad)", q.a, SWING_MAX),
+            return out + [Condition("error estimate finite over t_end (a model's mode grows)", math.inf, 0.0,
+                                    "the motion stays bounded over the run")]
+        out += [Condition("pendulum swing (linear theory, rad)", q.a, SWING_MAX,
+                          "the pendulum's own swing stays moderate"),
                 Condition("amplitude detuning / resonance width", q.shift / q.width if q.width > 0 else math.inf,
-                          NONLINEAR_MAX)]
+                          NONLINEAR_MAX, "the swing does not detune the pendulum from resonance")]
     return out
 
 
