@@ -16,6 +16,7 @@ from physics.core.errors import ScenarioError
 from physics.registry import Param, System, Table, register_system
 from physics.systems.moving_mass import closed_model, models  # noqa: F401  (registers the models)
 from physics.systems.moving_mass.accuracy import METHOD, averaged_error_bound, choose
+from physics.systems.moving_mass.figure import ACTIONS, figure
 from physics.systems.moving_mass.models import quasi_static_displacement
 from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium, check_mass_state
 from physics.systems.moving_mass.quantities import QUANTITIES
@@ -171,5 +172,5 @@ SYSTEM = register_system(System(
     check=check, conditions=averaged_conditions, choose=choose, available=available, derived=derived,
     error_bounds=error_bounds, error_method=METHOD, edit=edit, values=values, amplitude=amplitude,
     parts={PART: STATE}, start_part=start_part, check_run=check_carrier, braking_time=braking_time,
-    quantities=QUANTITIES, initial_keys={"mass_state": "rest"},
+    quantities=QUANTITIES, initial_keys={"mass_state": "rest"}, figure=figure, actions=ACTIONS,
 ))
