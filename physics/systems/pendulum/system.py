@@ -11,6 +11,7 @@ import numpy as np
 from physics.core.errors import ScenarioError
 from physics.registry import Param, System, Table, register_system
 from physics.systems.pendulum import averaged, models, validity  # noqa: F401  (registers the models)
+from physics.systems.pendulum.figure import PLANE_ACTIONS, SPHERICAL_ACTIONS, plane_figure, spherical_figure
 from physics.systems.pendulum.params import Pendulum, PlanePendulum
 from physics.systems.pendulum.quantities import QUANTITIES, quantity
 
@@ -177,7 +178,7 @@ SPHERICAL = register_system(System(
     check=check, conditions=validity.averaged_conditions, choose=validity.choose, derived=derived, edit=edit,
     error_bounds=validity.error_bounds, error_method=validity.METHOD,
     values=lambda sc, item=None: _values(sc, sc.pendulum), amplitude=spherical_amplitude,
-    quantities=QUANTITIES, quantity=quantity,
+    quantities=QUANTITIES, quantity=quantity, figure=spherical_figure, actions=SPHERICAL_ACTIONS,
 ))
 
 PLANE = register_system(System(
@@ -189,5 +190,5 @@ PLANE = register_system(System(
     values=lambda sc, item=None: _values(
         sc, sc.plane_pendulums[item if item is not None and 0 <= item < len(sc.plane_pendulums) else 0]
         if sc.plane_pendulums else None),
-    amplitude=plane_amplitude, quantities=QUANTITIES, quantity=quantity,
+    amplitude=plane_amplitude, quantities=QUANTITIES, quantity=quantity, figure=plane_figure, actions=PLANE_ACTIONS,
 ))
