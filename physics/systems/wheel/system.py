@@ -53,8 +53,9 @@ def conditions(sc) -> list[Condition]:
     _, _, theta0 = initial_G(sc)
     s = linear.exponents(sc)
     growth = float(np.max(s.real)) * sc.run.t_end
-    return [Condition("theta0 (rad)", theta0, THETA_MAX), Condition("linear growth max Re(s) t_end", growth,
-                                                                     GROWTH_MAX)]
+    return [Condition("theta0 (rad)", theta0, THETA_MAX, "the start is close to a pure spin (small nutation)"),
+            Condition("linear growth max Re(s) t_end", growth, GROWTH_MAX,
+                      "the nutation grows only a little over the run")]
 
 
 def error_bounds(sc, fidelity: str) -> float | None:
