@@ -12,32 +12,6 @@ import re
 
 import physics
 
-# physics.validity_conditions names (each system's validity conditions) -> what each condition means for the
-# motion; a name missing here is shown as physics gives it
-CONDITION_WORDS = {
-    "eps = |w0|/Omega": "the spring is fast next to the spin",
-    "chi |w0| / Omega^2": "the damping of the mass is light",
-    "|w0|/chi (free oscillation decay)": "the mass's start-up wobble dies out quickly",
-    "Re = a0^2 |w0| / nu": "the fluid in the cavity flows slowly (viscous)",
-    "lambda / |w0|": "the medium slows the spin only a little per turn",
-    "b / (G0 |w0|)": "the brake slows the spin only a little per turn",
-    "|A - B| / A": "the body is nearly symmetric (A close to B)",
-    "mu D^2 / A": "the pendulum is light next to the body",
-    "g / |Omega|": "the pendulum couples weakly to the nutation",
-    "ct / lambda_1": "the pendulum's damper is light",
-    "|lambda_1 - Omega| / |Omega|": "the pendulum is close to resonance",
-    "pendulum swing (linear theory, rad)": "the pendulum's own swing stays moderate",
-    "amplitude detuning / resonance width": "the swing does not detune the pendulum from resonance",
-    "error estimate finite over t_end (a model's mode grows)": "the motion stays bounded over the run",
-    "1/omega_0 (k = 0: no spring frequency)": "the pendulum has a spring",
-    # the moving mass's error estimate: the domain it was measured on (physics/systems/moving_mass/accuracy.py)
-    "m rho^2 / A": "the mass is light next to the body",
-    "1 / |1 - C/A|": "the body is not too close to a sphere",
-    "min(theta0, pi - theta0)": "the start is not too close to a flat spin",
-    "Omega / chi": "the mass's damper is not too light",
-    "chi / Omega": "the mass's damper is not too heavy",
-}
-
 FIDELITY_WORDS = {
     "full": "every moving part integrated",
     "averaged": "the quasi-rigid (averaged) model",
@@ -49,8 +23,10 @@ FIDELITY_WORDS = {
 PAPER_REF = re.compile(r"\s*\(seed \d+[^()]*(\([^()]*\))?[^()]*\)")
 
 
-def condition_words(name: str) -> str:
-    return CONDITION_WORDS.get(name, name)
+def condition_words(c) -> str:
+    """What a validity condition (physics' Condition) means for the motion: the system's own sentence (every
+    condition has one: tests/test_figure_battery.py), its formula only if a system left it out."""
+    return c.sentence or c.name
 
 
 def reason_words(reason: str, conds: list) -> str:
@@ -61,7 +37,7 @@ def reason_words(reason: str, conds: list) -> str:
     if conds and reason.startswith("averaged conditions hold"):
         reason = reason.rpartition("; ")[2] if "; " in reason else ""
     for c in conds:
-        reason = reason.replace(str(c), condition_words(c.name))
+        reason = reason.replace(str(c), condition_words(c))
     return PAPER_REF.sub("", reason)
 
 
@@ -92,14 +68,14 @@ def badge_parts(d: dict, conds: list) -> tuple[str, str]:
     lines += estimate_words(d)
     if conds:
         lines.append(f"the papers' conditions for averaging {'hold' if all(c.holds for c in conds) else 'fail'}:")
-        lines += [f"{'✓ holds' if c.holds else '✗ fails'}: {condition_words(c.name)}" for c in conds]
+        lines += [f"{'✓ holds' if c.holds else '✗ fails'}: {condition_words(c)}" for c in conds]
     why = reason_words(d["auto_reason"], conds)
     shown = head + "  \n" + "  \n".join(lines) + (f"  \n_{why}_" if why else "")
     details = [f"auto's reason: {d['auto_reason']}"]
     if d.get("error_bound_method"):
         details.append(f"how the error estimates were obtained: {d['error_bound_method']}")
     if conds:
-        details += ["averaged model's conditions:"] + [f"{condition_words(c.name)}: {c}" for c in conds]
+        details += ["averaged model's conditions:"] + [f"{condition_words(c)}: {c}" for c in conds]
     return shown, "  \n".join(details)
 
 
@@ -121,10 +97,14 @@ def braking_words(t: float, remaining: float) -> dict[str, str]:
 def status_words(message: str) -> str:
     """The run's status message in the panel's words: physics says the braking brought |G| (J* w) to zero,
     a name the panel has nowhere else; to a class, the spin stopped. Where physics names a scenario key the
-    panel has a control for (pendulum.pivot), the control is named; a time given to all 17 digits (an
-    IntegrationFault's, exact for a script) is shown to 6."""
-    said = (message.replace("braking brought |G| to zero", "braking stopped the spin")
-            .replace('set pendulum.pivot = "isotropic"', 'choose pivot "isotropic" (folder Pendulum damper)'))
+    panel has a control for (a system's choice action: set KEY = "OPTION"), the control is named; a time given
+    to all 17 digits (an IntegrationFault's, exact for a script) is shown to 6."""
+    said = message.replace("braking brought |G| to zero", "braking stopped the spin")
+    for s in physics.SYSTEMS.values():
+        for a in s.actions:
+            if a.kind == "choice":
+                for option in a.options:
+                    said = said.replace(f'set {a.key} = "{option}"', f'choose {a.label} "{option}" (folder {a.folder})')
     return re.sub(r"at t = ([-+]?\d+\.\d{7,}(?:e[-+]?\d+)?)(?! s)", lambda m: f"at t = {float(m.group(1)):.6g} s", said)
 
 
