@@ -37,6 +37,7 @@ from physics.scenario.params import Body, Initial, Run
 from physics.scenario.scenario import Scenario
 from physics.stepping.live import LiveRun
 from physics.stepping.simulate import simulate
+from physics.stepping.stepper import brake_and_medium
 from physics.stepping.warm import start as build_kernels
 from physics.studies.metrics import METRICS, Metric
 from physics.studies.sweep import SweepTable, axis_values, check_point, numeric_keys, point_scenario, resolve_key, sweep
@@ -62,7 +63,8 @@ __all__ = [
     "default_scenario", "derived",
     "get_model", "get_system", "initial_G", "load_builtin", "Param", "register_model", "register_system",
     "RegistrationError", "System", "SYSTEMS", "Table", "unregister_system",
-    "BASE_FOLDERS", "BASE_PARAMS", "base_values", "edit_dict", "IDENTITY", "qconj", "qmul", "rotate",
+    "BASE_FOLDERS", "BASE_PARAMS", "base_values", "brake_and_medium", "edit_dict", "IDENTITY", "qconj", "qmul",
+    "rotate",
     "rotation_matrix",
     "simulate", "validity_conditions", "WorkPrecision", "WorkPrecisionRow", "work_precision",
 ]

@@ -161,7 +161,7 @@ def test_the_second_frame_is_drawable():
     on(e, ("mass.rho", 1.0))
     ticks(e, 3)
     fr = compare.frame_of(e)
-    for v in (fr.body_wxyz, fr.K_vec, fr.omega_vec, fr.axis_vec, fr.mass_pos):
+    for v in (fr.body_wxyz, fr.K_vec, fr.omega_vec, fr.axis_vec, fr.part("mass").centre):
         assert np.all(np.isfinite(v))
     np.testing.assert_allclose(fr.K_vec / np.linalg.norm(fr.K_vec), [0, 0, 1], atol=1e-9)  # its K up too
     assert controls.values_of(e.compare.scenario)["mass.rho"] == 1.0 and e.scenario.mass.rho == 1.5

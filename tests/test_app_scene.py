@@ -14,15 +14,14 @@ from app.engine.geometry import (
     align,
     body_shape,
     ellipsoid_axes,
-    mass_points,
-    plane_bob,
     qconj,
     qmul,
     rotate,
     shape_moments,
-    spherical_bob,
     trail_segments,
 )
+from physics.systems.moving_mass.figure import mass_points
+from physics.systems.pendulum.figure import plane_bob, spherical_bob
 
 MOMENT_TOL = 1e-12  # relative
 

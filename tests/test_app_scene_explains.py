@@ -14,10 +14,10 @@ import physics
 from app.engine import presets
 from app.engine.engine import Engine
 from app.engine.geometry import rotate
-from app.engine.mass_view import CAP_FRACTION, DRAWN_FRACTION, default_exaggeration, drawn_displacement
 from app.engine.trail import SAMPLES_PER_TURN, TRAIL_TURNS, largest_step, split_advance, turns_covered
 from app.scene.labels import LABEL_GAP, label_groups
 from app.scene.legend import entries, legend_markdown, parts_of
+from physics.systems.moving_mass.figure import CAP_FRACTION, DRAWN_FRACTION, default_exaggeration, drawn_displacement
 
 TRAIL_STEP_MAX = 2 * math.pi / SAMPLES_PER_TURN * (1 + 1e-6)  # rad: one chord spans at most 1/24 of a turn
 DRAWN_LIMIT = 0.25  # the drawn displacement stays within this fraction of the body's size (DRAWN_FRACTION + dynamics)
@@ -71,7 +71,7 @@ def test_the_legend_follows_the_view_the_polhode_the_mesh_and_the_factor():
     assert "drawn x 20" in text and "satellite.stl" in text and "K's direction in the body" in text
     plane = _preset_with(lambda sc: len(sc.plane_pendulums) == 3)
     assert "bobs (3)" in legend_markdown(parts_of(plane))
-    averaged = legend_markdown(parts_of(sc, mass_moves=False))
+    averaged = legend_markdown(parts_of(sc, state={}))
     assert "at rest" in averaged and "spring" not in averaged  # no displacement drawn, no factor claimed
 
 
@@ -198,8 +198,8 @@ def test_the_mass_is_drawn_on_the_body_at_the_default_exaggeration(name):
     for _ in range(100):  # 10 s, several turns of the cone from the start, where |u| is largest
         e._advance(0.1)
         fr = e.frame()
-        worst = max(worst, float(np.linalg.norm(fr.mass_pos - fr.mass_rest)) / size)
-        assert not fr.mass_capped  # the default factor itself keeps it on the body, not the cap
+        worst = max(worst, float(np.linalg.norm(np.subtract(fr.part("mass").centre, fr.part("rest").centre))) / size)
+        assert "capped" not in fr.part("factor").text  # the default factor itself keeps it on the body, not the cap
     assert 1.0 <= e.exaggeration <= 1000.0
     assert worst <= DRAWN_LIMIT
 

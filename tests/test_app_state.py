@@ -37,7 +37,7 @@ def test_default_engine_plays_with_K_up():
     assert e.preset == presets.DEFAULT and e.run.fidelity == "full"
     fr = ticks(e, 10)
     assert fr.t == pytest.approx(10 * DT * e.warp)
-    for v in (fr.K_vec, fr.omega_vec, fr.axis_vec, fr.body_wxyz, fr.mass_pos):
+    for v in (fr.K_vec, fr.omega_vec, fr.axis_vec, fr.body_wxyz, fr.part("mass").centre):
         assert np.all(np.isfinite(v))
     K = fr.K_vec / np.linalg.norm(fr.K_vec)
     np.testing.assert_allclose(K, [0, 0, 1], atol=1e-9)  # the inertial view puts the fixed K up
@@ -125,7 +125,7 @@ def test_every_preset_loads_and_runs(name):
     assert fr.t > 0 and np.isfinite(fr.theta)
     sc = e.scenario
     if sc.pendulum is not None or sc.plane_pendulums:
-        assert len(fr.bobs) == max(1, len(sc.plane_pendulums))
+        assert len(fr.parts("bob")) == max(1, len(sc.plane_pendulums))
     assert e.readouts()["fidelity"].startswith(e.run.fidelity)
     assert e.badge(block=True).startswith("**auto")
 

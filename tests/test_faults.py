@@ -243,8 +243,8 @@ def test_a_chart_switch_keeps_the_motion_exactly():
 
 
 def test_the_app_draws_the_bob_in_the_chart_in_use():
-    from app.engine.geometry import spherical_bob
     from physics.compiled import pendulum as kernel
+    from physics.systems.pendulum.figure import spherical_bob
 
     sc = _gimbal(0.0, samples=301)
     p = physics.get_model(sc.system, "full").pack(sc)
@@ -301,7 +301,7 @@ def test_the_app_engine_runs_past_the_gimbal_pole():
         if fr.status != RUNNING or fr.t >= 30.0:
             break
     assert fr.status == RUNNING and not fr.message and fr.t >= 30.0
-    assert math.isfinite(fr.theta) and np.all(np.isfinite(fr.bobs[0][1]))
+    assert math.isfinite(fr.theta) and np.all(np.isfinite(fr.part("bob0").centre))
 
 
 # ---- the app: the tab pauses on a fault, keeps the last good state and says why --------------------------

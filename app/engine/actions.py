@@ -9,7 +9,7 @@ import math
 
 import physics
 
-from . import controls, edits, parts, presets
+from . import controls, edits, presets
 from .buffers import RECENT, VIEWS, WHOLE_RUN
 from .clock import FRAME_HZ
 from .compare import set_compare, undo_compare
@@ -20,9 +20,43 @@ class ActionsMixin:
     # ---- actions (loop thread): one handler each, looked up in ACTIONS ----------------------------
     def _act(self, action: str, value) -> None:
         handler = ACTIONS.get(action)
-        if handler is None:
+        if handler is not None:
+            handler(self, value)
+            return
+        own = [a for a in system_actions(self.scenario) if a.name == action]
+        known = own or [a for a in system_actions(None) if a.name == action]
+        if not known:
             raise ValueError(f"unknown action {action!r}")
-        handler(self, value)
+        getattr(self, f"_{known[0].kind}_action")(known[0], value, bool(own))
+
+    # ---- a system's own actions (physics.figure.Action), by kind -----------------------------------
+    def _button_action(self, a, _value, own: bool) -> None:
+        """Its edits, applied as slider values are (another system's are kept for later, as a slider's)."""
+        self._apply_values(a.apply(self.scenario))
+
+    def _choice_action(self, a, value, own: bool) -> None:
+        """The option for the scenario key ``a.key``, kept across edits and scenes; the run goes on from its
+        state (a spherical pendulum's pivot: the swing goes on)."""
+        if not isinstance(value, str) or value not in a.options:
+            raise ValueError(f"{a.label} {value!r}: expected one of {', '.join(a.options)}")
+        self._run_choice(self.fidelity_choice, self.accuracy_choice, {**self.choices, a.key: value})
+
+    def _item_action(self, a, value, own: bool) -> None:
+        """Which item of the scene's array table the sliders edit (0-based; None or "all": every item); the
+        sliders show its values."""
+        n = len(a.options_of(self.scenario)) if own else 0
+        self.item = None if value in (None, "all") or n == 0 else min(max(int(value), 0), n - 1)
+        system = self.scenario.system
+        own_keys = {p.key for p in controls.registry().params if system in p.systems and not p.base}
+        self.values.update({k: v for k, v in controls.values_of(self.scenario, self.item).items() if k in own_keys})
+        self.sliders_changed = True
+
+    def _view_action(self, a, value, own: bool) -> None:
+        """A value the figure is drawn with (physics.figure.View's field ``a.key``), within [lo, hi]."""
+        v = float(value)
+        if not math.isfinite(v):
+            raise ValueError(f"{a.label} {value!r}: expected a number in [{a.lo:g}, {a.hi:g}]")
+        self.view_values[a.key] = min(max(v, a.lo), a.hi)
 
     def _undo(self, _value) -> None:
         """Back to just before the last change: its parameters and the run's state then (the clock too)."""
@@ -110,31 +144,24 @@ class ActionsMixin:
     def _fidelity(self, value) -> None:
         """Another fidelity from now on, with the state carried (K and the attitude kept) unless "restart on
         change" is set or the new model is a closed form, which has no state and starts at t = 0."""
-        self._run_choice(value, self.accuracy_choice, self.pivot_choice)
+        self._run_choice(value, self.accuracy_choice, self.choices)
 
     def _accuracy(self, value) -> None:
         """Another accuracy for auto (rad; None: physics.DEFAULT_ACCURACY): auto may then pick another model,
         which goes on from the state carried as a fidelity chosen by hand does."""
         if value is not None and not (isinstance(value, float) and 0.0 < value < math.inf):
             raise ValueError(f"auto's accuracy {value!r}: expected a positive number of rad or the default")
-        self._run_choice(self.fidelity_choice, value, self.pivot_choice)
+        self._run_choice(self.fidelity_choice, value, self.choices)
 
-    def _pivot(self, value) -> None:
-        """What a spherical pendulum's spring and damper act on (physics.PIVOTS: the Cardan angles, or the arm's
-        direction, which goes on through the gimbal pole); the swing goes on from the state carried."""
-        if value not in physics.PIVOTS:
-            raise ValueError(f"pivot {value!r}: expected one of {', '.join(physics.PIVOTS)}")
-        self._run_choice(self.fidelity_choice, self.accuracy_choice, value)
-
-    def _run_choice(self, fidelity: str, accuracy: float | None, pivot: str) -> None:
-        sc = with_choices(self.scenario, fidelity, accuracy, pivot)
+    def _run_choice(self, fidelity: str, accuracy: float | None, choices: dict) -> None:
+        sc = with_choices(self.scenario, fidelity, accuracy, choices)
         kept = self.run.retune(sc, keep_state=not self.restart_on_change)
-        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = fidelity, accuracy, pivot
+        self.fidelity_choice, self.accuracy_choice, self.choices = fidelity, accuracy, dict(choices)
         self.error = ""
         if kept:
             self.log_retune(sc)
             self.overlay_dirty = True
-            self.scene_changed = True  # the full model draws the moving mass; the averaged one has none
+            self.scene_changed = True  # another model may draw other parts (the averaged one has no displacement)
         else:
             self._restarted()
         self._note_edit(kept)
@@ -146,9 +173,6 @@ class ActionsMixin:
         self.view = value if value in VIEWS else "inertial"
         self.trail.clear()  # the trail means something else in the other frame
         self.scene_changed = True
-
-    def _exaggeration(self, value) -> None:
-        self.exaggeration = float(value)
 
     def _plots(self, value) -> None:
         if value not in (WHOLE_RUN, RECENT):
@@ -162,16 +186,6 @@ class ActionsMixin:
         self.overlay_fidelity = value
         self.overlay_dirty = True
         self.plots_changed = True
-
-    def _tune(self, _value) -> None:
-        self._apply_values({controls.TUNE_KEY: "resonant"})
-
-    def _bob(self, value) -> None:
-        n = len(parts.array_items(self.scenario))
-        self.bob = None if value in (None, "all") or n == 0 else min(max(int(value), 0), n - 1)
-        self.values.update({k: v for k, v in controls.values_of(self.scenario, self.bob).items()
-                            if k.startswith("pendulum.")})
-        self.sliders_changed = True
 
     def _polhode(self, value) -> None:
         self.show_polhode = bool(value)
@@ -229,10 +243,9 @@ ACTIONS = {
     "play": ActionsMixin._play, "pause": ActionsMixin._pause, "toggle": ActionsMixin._toggle,
     "step": ActionsMixin._step, "reset": ActionsMixin._reset, "warp": ActionsMixin._set_warp,
     "preset": ActionsMixin._preset, "system": ActionsMixin._system, "fidelity": ActionsMixin._fidelity,
-    "accuracy": ActionsMixin._accuracy, "pivot": ActionsMixin._pivot,
+    "accuracy": ActionsMixin._accuracy,
     "restart_on_change": ActionsMixin._restart_on_change, "view": ActionsMixin._view,
-    "exaggeration": ActionsMixin._exaggeration, "overlay": ActionsMixin._overlay, "plots": ActionsMixin._plots,
-    "tune": ActionsMixin._tune, "bob": ActionsMixin._bob, "polhode": ActionsMixin._polhode,
+    "overlay": ActionsMixin._overlay, "plots": ActionsMixin._plots, "polhode": ActionsMixin._polhode,
     "sphere": ActionsMixin._sphere,
     "mesh": ActionsMixin._mesh, "upload": ActionsMixin._upload, "scenario": ActionsMixin._scenario,
     "undo": ActionsMixin._undo, "reload": ActionsMixin._reload,
@@ -241,15 +254,42 @@ ACTIONS = {
 
 
 
-def with_choices(sc: physics.Scenario, fidelity: str, accuracy: float | None, pivot: str) -> physics.Scenario:
-    """``sc`` with the panel's choices, kept across slider edits: the fidelity, auto's accuracy and a spherical
-    pendulum's pivot (a scene without one keeps the choice for a later one). ``sc`` itself when it has them."""
+def system_actions(sc: physics.Scenario | None, kind: str | None = None) -> tuple:
+    """The actions (physics.figure.Action) of ``sc``'s system, or of every registered system (None), of
+    ``kind`` if given; one per name, the first system's."""
+    systems = [physics.get_system(sc.system)] if sc is not None else list(physics.SYSTEMS.values())
+    out: dict = {}
+    for s in systems:
+        for a in s.actions:
+            if kind in (None, a.kind):
+                out.setdefault(a.name, a)
+    return tuple(out.values())
+
+
+def choices_of(sc: physics.Scenario, kept: dict | None = None) -> dict[str, str]:
+    """Every choice action's option as ``sc`` has it; a choice the scene has nothing for keeps its value in
+    ``kept`` (a later scene that has it gets it), else its first option."""
+    kept = kept or {}
+    own = {a.key for a in system_actions(sc, "choice") if a.shown(sc)}
+    return {a.key: a.value_of(sc) if a.key in own else kept.get(a.key, a.options[0])
+            for a in system_actions(None, "choice")}
+
+
+def with_choices(sc: physics.Scenario, fidelity: str, accuracy: float | None, choices: dict) -> physics.Scenario:
+    """``sc`` with the panel's choices, kept across slider edits: the fidelity, auto's accuracy and the system's
+    choice actions' options (a scene without what one sets keeps the choice for a later one). ``sc`` itself when
+    it has them all, so that a slider change builds and validates its scenario once."""
     if (sc.run.fidelity, sc.run.accuracy) != (fidelity, accuracy):
         sc = sc.replace(run=dataclasses.replace(sc.run, fidelity=fidelity, accuracy=accuracy))
-    if sc.pendulum is not None and sc.pendulum.pivot != pivot:
-        sc = sc.replace(pendulum=dataclasses.replace(sc.pendulum, pivot=pivot))
-    return sc
-
-
-def pivot_of(sc: physics.Scenario) -> str:
-    return sc.pendulum.pivot if sc.pendulum is not None else physics.PIVOTS[0]
+    system = physics.get_system(sc.system)
+    edits = {a.key: choices[a.key] for a in system_actions(sc, "choice")
+             if a.key in choices and a.shown(sc) and a.value_of(sc) != choices[a.key]}
+    if not edits:
+        return sc
+    data = sc.to_dict()
+    for key, value in edits.items():
+        if system.edit is not None:
+            system.edit(data, key, value)
+        else:
+            physics.edit_dict(data, key, value, sc)
+    return physics.Scenario.from_dict(data)

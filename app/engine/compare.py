@@ -89,10 +89,11 @@ def second_scenario(engine, diff: Difference) -> physics.Scenario:
 
 class Comparison(FrameMixin):
     """The second run, its plot buffers and what its frame needs (FrameMixin reads ``run``, ``view``,
-    ``world_wxyz``, ``K_ref``, ``w_ref``, ``shape``, ``trail``, ``exaggeration``)."""
+    ``world_wxyz``, ``K_ref``, ``w_ref``, ``shape``, ``trail``, ``view_values``)."""
 
     def __init__(self, engine, diff: Difference):
         self.diff = diff
+        self.view_values = dict(engine.view_values)  # the first run's, again at each frame (frame_of)
         self.seq = 0
         self.applied_seq = 0
         self.show_polhode = False
@@ -240,7 +241,7 @@ def frame_of(engine):
     """The second run's frame (app.engine.frame.Frame), in the first's view and with its arrows' scales, so that
     arrow lengths compare."""
     c = engine.compare
-    c.view, c.exaggeration, c.K_ref, c.w_ref = engine.view, engine.exaggeration, engine.K_ref, engine.w_ref
+    c.view, c.view_values, c.K_ref, c.w_ref = engine.view, engine.view_values, engine.K_ref, engine.w_ref
     return c.frame()
 
 

@@ -48,7 +48,6 @@ class Registry:
 
 
 _CACHE: dict[tuple, Registry] = {}
-TUNE_KEY = "pendulum.k"  # "tune to resonance" sets it to "resonant": shown for a system that has its table
 
 
 def _systems() -> list[physics.System]:
@@ -136,7 +135,7 @@ def _table_owners(key: str) -> set[str]:
 
 
 def item_key(key: str, system: str, item: int | None) -> str:
-    """The key a slider change is applied with: ``key#item`` when it edits one item (a chosen bob)."""
+    """The key a slider change is applied with: ``key#item`` when it edits one item of an array table."""
     return f"{key}#{item}" if item is not None and per_item(key, system) else key
 
 
@@ -149,13 +148,13 @@ def scenario_key(key: str, system: str) -> str:
     return f"{tables[0].name}.{key.partition('.')[2]}"
 
 
-def values_of(sc: physics.Scenario, bob: int | None = None) -> dict[str, float]:
+def values_of(sc: physics.Scenario, item: int | None = None) -> dict[str, float]:
     """Slider values that describe ``sc``: every system's (an absent part's defaults), the scene's own last, then
-    the body and the start. The pendulum sliders show plane pendulum number ``bob`` (0-based), or the first."""
+    the body and the start. The sliders of an array table show its item number ``item`` (0-based), or the first."""
     own = physics.get_system(sc.system)
     v: dict[str, float] = {}
     for system in [s for s in _systems() if s is not own] + [own]:
-        v.update(system.values(sc, bob))
+        v.update(system.values(sc, item))
     v.update(physics.base_values(sc))
     params = registry().params
     for p in params:

@@ -22,6 +22,7 @@ viser's server passes both on unclamped. Hence:
 from __future__ import annotations
 
 import math
+import re
 import threading
 import time
 from dataclasses import dataclass
@@ -73,8 +74,9 @@ def rejected_text(key: str, value: float, reason: str, kept: float | None) -> st
         reason = reason[len(f"{head}{value!r}: "):]
     elif reason.startswith(head) and ": " in reason:
         reason = reason.partition(": ")[2]
-    if key == "mass.m" and _number(value) and value < 0:
-        reason += " (0 removes the mass)"
+    p = controls.BY_KEY.get(key)
+    if p is not None and _number(value) and value < 0 and re.search(r"\b0 = no", p.meaning):
+        reason += f" (0 removes the {key.partition('.')[0]})"  # a switch: the Param says that 0 means none
     stays = "" if kept is None else f" {_name(key)} stays {_with_unit(key, kept)}."
     return f"Rejected: {_name(key)} = {_with_unit(key, value)}: {reason.rstrip('.')}.{stays}"
 
@@ -256,10 +258,10 @@ class Snapshot:
     base: physics.Scenario
     changes: dict
     values: dict
-    bob: int | None
+    item: int | None  # the array table's item the sliders edit
     fidelity: str
     accuracy: float | None  # auto's
-    pivot: str  # a spherical pendulum's
+    choices: dict  # the systems' choice actions' options
     run_state: dict
     epoch: int  # the buffers' start it belongs to: a change that restarted the run started new ones
     n_edits: int  # the engine's list of edits the run went through, up to this change
@@ -269,8 +271,8 @@ class Snapshot:
     @classmethod
     def of(cls, engine, key: str, epoch: int) -> Snapshot:
         state = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in vars(engine.run).items()}
-        return cls(key, engine.base, dict(engine.changes), dict(engine.values), engine.bob, engine.fidelity_choice,
-                   engine.accuracy_choice, engine.pivot_choice, state, epoch, len(getattr(engine, "edits", ())),
+        return cls(key, engine.base, dict(engine.changes), dict(engine.values), engine.item, engine.fidelity_choice,
+                   engine.accuracy_choice, dict(engine.choices), state, epoch, len(getattr(engine, "edits", ())),
                    getattr(engine, "edit_count", None), getattr(engine, "retunes", None))
 
     def restore(self, engine) -> float:
@@ -281,8 +283,8 @@ class Snapshot:
         vars(run).clear()
         vars(run).update({k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in self.run_state.items()})
         engine.base, engine.changes, engine.values = self.base, dict(self.changes), dict(self.values)
-        engine.bob, engine.fidelity_choice, engine.accuracy_choice = self.bob, self.fidelity, self.accuracy
-        engine.pivot_choice = self.pivot
+        engine.item, engine.fidelity_choice, engine.accuracy_choice = self.item, self.fidelity, self.accuracy
+        engine.choices = dict(self.choices)
         if isinstance(getattr(engine, "edits", None), list):
             del engine.edits[self.n_edits:]
         if hasattr(engine, "retunes"):

@@ -18,8 +18,8 @@ import numpy as np
 
 import physics
 
-from . import controls, edits, parts, presets
-from .actions import ActionsMixin, pivot_of, with_choices
+from . import controls, edits, presets
+from .actions import ActionsMixin, choices_of, system_actions, with_choices
 from .buffers import (
     EDITS_LISTED,
     HISTORY_ROWS,
@@ -37,7 +37,6 @@ from .compare import restart_compare
 from .frame import Frame, FrameMixin
 from .geometry import E3, Ring, Shape, align, body_shape
 from .history import DecimatingStore
-from .mass_view import default_exaggeration
 from .output import OutputMixin
 from .sphere import MomentumPath
 from .trail import split_advance, thinned
@@ -60,8 +59,9 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.playing = True
         self.restart_on_change = False
         self.view = "inertial"
-        self.exaggeration = 10.0
-        self.bob: int | None = None  # plane pendulum the pendulum sliders edit (0-based); None = every bob
+        self.view_values: dict[str, float] = {}  # physics.figure.View's fields a system's view action set
+        self.choices: dict[str, str] = {}  # a system's choice actions: scenario key -> option, kept across scenes
+        self.item: int | None = None  # the item of an array table the sliders edit (0-based); None = every item
         self.show_polhode = False
         self.show_sphere = True  # the momentum sphere beside the body (app.scene.sphere_view)
         self.sphere_path = MomentumPath()  # K's direction in body axes over the run (app.engine.sphere)
@@ -88,9 +88,9 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
     # ---- requests from GUI callbacks (any thread) -------------------------------------------
     def request_value(self, key: str, value, limits: tuple[float, float] | None = None) -> int:
         """A slider's new value; ``limits``: the slider's (min, max) then (app.engine.edits clamps a value beyond them
-        and drops the browser's clamp echo). Pendulum sliders edit the bob chosen with the "bob" action."""
+        and drops the browser's clamp echo). A slider of an array table edits the item an "item" action chose."""
         slider = key
-        key = controls.item_key(key, self.scenario.system, self.bob)  # a plane pendulum's bob chosen: that bob
+        key = controls.item_key(key, self.scenario.system, self.item)  # one item chosen: that item
         with self._lock:
             if not self.guard.received(slider, value, limits):
                 return self.change_seq  # the browser's own clamp of a value just judged: not the user's
@@ -100,7 +100,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
 
     def request(self, action: str, value=None) -> int:
         """Actions: play, pause, step, reset, warp, preset, system, fidelity, restart_on_change,
-        view, exaggeration, overlay, tune."""
+        view, overlay, ... (app.engine.actions.ACTIONS), and each system's own by name (physics.figure.Action)."""
         with self._lock:
             self._actions.append((action, value))
             return self._bump()
@@ -120,24 +120,39 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.base = sc
         self.preset = name
         self.changes: dict = {}
-        self.bob = None
+        self.item = None
         self.values = controls.values_of(sc)
         self.run = run
         self.clock.warp = DEFAULT_WARP if name == presets.DEFAULT else presets.suggested_warp(sc)
         self._adopt_choices(sc)
         self._restarted()
-        self.exaggeration = self.default_exaggeration()  # the panel's slider follows (sliders_changed)
+        self.view_values.update(self.initial_view())  # the panel's slider follows (sliders_changed)
 
     def _adopt_choices(self, sc: physics.Scenario) -> None:
         """The panel's run-level choices (kept across slider edits, actions.with_choices) as ``sc`` has them."""
-        self.fidelity_choice, self.accuracy_choice, self.pivot_choice = sc.run.fidelity, sc.run.accuracy, pivot_of(sc)
+        self.fidelity_choice, self.accuracy_choice = sc.run.fidelity, sc.run.accuracy
+        self.choices = choices_of(sc, self.choices)
 
-    def default_exaggeration(self) -> float:
-        """The factor the mass's displacement is drawn with for this scene: a fraction of the body (mass_view)."""
-        m = self.scenario.mass
-        if m is None:
-            return self.exaggeration
-        return default_exaggeration(self.shape.extent, m.rho, m.Omega, float(np.linalg.norm(self.run.last.omega[0])))
+    def initial_view(self) -> dict[str, float]:
+        """The values the scene's view actions start with (the displacement's factor that keeps a moving part
+        within the body): each action's ``initial``, from the body's drawn size and its angular velocity now."""
+        sc = self.scenario
+        omega = self.run.last.omega[0]
+        return {a.key: float(a.initial(sc, self.shape.extent, omega)) for a in system_actions(sc, "view")
+                if a.initial is not None and a.shown(sc)}
+
+    def __getattr__(self, name: str):
+        """A View field by its name (``engine.exaggeration``) and a choice action's option by the action's name
+        (``engine.pivot_choice``): the names come from physics, not from here."""
+        if name.startswith("_") or name in ("view_values", "choices"):
+            raise AttributeError(name)
+        if name in physics.figure.View.__dataclass_fields__:
+            return self.view_values.get(name, physics.figure.View.__dataclass_fields__[name].default)
+        if name.endswith("_choice"):
+            for a in system_actions(None, "choice"):
+                if a.name == name[: -len("_choice")]:
+                    return self.choices.get(a.key, a.options[0])
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def _restarted(self) -> None:
         """Buffers and reference directions for a run that starts now (or was retuned)."""
@@ -170,10 +185,11 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         restart_compare(self)  # the second run (compare mode) starts again with the first
 
     def static_signature(self) -> tuple:
-        """What the static meshes depend on; the session redraws them when it changes."""
-        sc = self.scenario
-        return (self.shape, tuple(self.ellipsoid()), sc.mass.rho if sc.mass else None,
-                sc.cavity.a0 if sc.cavity else None, parts.bob_count(sc))
+        """What the static meshes depend on: the body, its ellipsoid and the system's figure's static part with
+        the names of its moving part (one drawn object per name); the session redraws them when it changes."""
+        parts = self.frame_figure()
+        static = tuple(p for p in parts if not p.moves)
+        return (self.shape, tuple(self.ellipsoid()), static, tuple(p.name for p in parts if p.moves))
 
     def mark_drawn(self) -> None:
         self._drawn = self.static_signature()
@@ -193,7 +209,8 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         """Whether the scene differs from the preset loaded (a slider, tuning, the fidelity, auto's accuracy, the
         pivot): the panel then names the preset "(edited)", so choosing the preset again is a change that reloads it."""
         return (bool(self.changes) or self.fidelity_choice != self.base.run.fidelity
-                or self.accuracy_choice != self.base.run.accuracy or self.pivot_choice != pivot_of(self.base))
+                or self.accuracy_choice != self.base.run.accuracy
+                or self.choices != choices_of(self.base, self.choices))
 
     # ---- applying changes (loop thread) -----------------------------------------------------
     def _apply_pending(self) -> None:
@@ -238,7 +255,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         """The scene as loaded with the panel's run-level choices: what slider changes apply to. Built again
         only when the base or a choice changes, so that a slider change builds and validates its scenario
         once (the screen's build is the one applied)."""
-        choices = (self.fidelity_choice, self.accuracy_choice, self.pivot_choice)
+        choices = (self.fidelity_choice, self.accuracy_choice, dict(self.choices))
         if self._chosen is None or self._chosen[0] is not self.base or self._chosen[1] != choices:
             self._chosen = (self.base, choices, with_choices(self.base, *choices))
         return self._chosen[2]
@@ -248,16 +265,18 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         changes = controls.merge_changes(self.changes, pending)
         if sc is None:
             sc = controls.apply_changes(self._chosen_base(), changes)  # ScenarioError leaves everything as it was
-        sc = with_choices(sc, self.fidelity_choice, self.accuracy_choice, self.pivot_choice)  # a part a change added
+        sc = with_choices(sc, self.fidelity_choice, self.accuracy_choice, self.choices)  # a part a change added
         restart = self.restart_on_change or controls.restarts(pending)
         kept = self.run.retune(sc, keep_state=not restart)
         self.changes = changes
         for k, v in pending.items():
             key, _, which = k.partition("#")
-            if not isinstance(v, str) and (not which or int(which) == (self.bob or 0)):
+            if not isinstance(v, str) and (not which or int(which) == (self.item or 0)):
                 self.values[key] = v
-        if sc.pendulum is not None and isinstance(sc.pendulum.k, str):
-            self.values["pendulum.k"] = controls.values_of(sc)["pendulum.k"]  # "resonant" resolved: show the k
+        words = [k.partition("#")[0] for k, v in changes.items() if isinstance(v, str)]
+        if words:  # a value given in words (a tuned spring, "resonant"): its slider shows what it resolves to
+            resolved = controls.values_of(sc, self.item)
+            self.values.update({k: resolved[k] for k in words if k in resolved})
             self.sliders_changed = True
         self.error = ""
         self.shape = self._shape(sc)
@@ -268,7 +287,8 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
             self.log_retune(sc)
             self.edit_count += 1
             if len(self.edits) < EDITS_LISTED:
-                self.edits.append((self.run.t, _edit_names(pending)))
+                item = [a.label for a in system_actions(sc, "item")][:1]
+                self.edits.append((self.run.t, _edit_names(pending, *item)))
         if not kept:
             self._restarted()
         self._note_edit(kept)
@@ -399,13 +419,14 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         return PLOT_POINTS / (SAMPLES_PER_FRAME * FRAME_HZ) * self.warp
 
 
-def _edit_names(pending: dict) -> str:
-    """The sliders a change moved, by their labels ("m (kg)"; "l (m) of bob 2")."""
+def _edit_names(pending: dict, item: str = "item") -> str:
+    """The sliders a change moved, by their labels ("m (kg)"; with ``item`` the item action's label, "l (m) of
+    bob 2")."""
     names = []
     for k in sorted(pending):
         key, _, which = k.partition("#")
         p = controls.BY_KEY.get(key)
-        names.append((p.label if p is not None else key) + (f" of bob {int(which) + 1}" if which else ""))
+        names.append((p.label if p is not None else key) + (f" of {item} {int(which) + 1}" if which else ""))
     return ", ".join(names)
 
 

@@ -1,20 +1,20 @@
 """What one published frame shows (``Frame``), and how the engine makes it from the run's last state:
-the body's attitude, K, omega and e3 as arrows, the internal parts, the e3 trail and the polhode, in the
-inertial view (K of t = 0 pointing up) or the body view. Mixed into ``app.engine.engine.Engine``.
+the body's attitude, K, omega and e3 as arrows, the internal parts (the system's own figure, physics.figure),
+the e3 trail and the polhode, in the inertial view (K of t = 0 pointing up) or the body view. Mixed into
+``app.engine.Engine``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
+import physics
 from physics import qmul, rotate
 
-from . import parts
-from .geometry import E3, ellipsoid_axes, mass_points, plane_bob, spherical_bob
-from .mass_view import drawn_displacement
+from .geometry import E3, ellipsoid_axes
 
 
 @dataclass
@@ -33,20 +33,35 @@ class Frame:
     omega_vec: np.ndarray
     axis_vec: np.ndarray
     torque_vec: np.ndarray | None
-    mass_rest: np.ndarray | None = None
-    mass_pos: np.ndarray | None = None
-    mass_capped: bool = False  # the drawn displacement was cut to app.engine.mass_view.CAP_FRACTION of the body
-    bobs: list = field(default_factory=list)  # [(pivot, bob)] body frame, m
+    figure: tuple = ()  # the system's picture: physics.figure primitives, body frame, m
     trail: np.ndarray | None = None  # (n, 3) scene coordinates, on a sphere of radius trail_radius
     polhode: np.ndarray | None = None  # (n, 3) body frame, m: omega's tip on the drawn inertia ellipsoid
     status: str = "running"
     message: str = ""
     applied: int = 0  # sequence number of the last GUI change reflected in this frame
 
+    def part(self, name: str):
+        """The figure's primitive named ``name``, or None."""
+        return next((p for p in self.figure if p.name == name), None)
+
+    def parts(self, role: str) -> tuple:
+        """The figure's primitives of legend role ``role``."""
+        return tuple(p for p in self.figure if p.role == role)
+
 
 class FrameMixin:
     """Reads the engine's ``run``, ``scenario``, ``view``, ``world_wxyz``, ``K_ref``, ``w_ref``, ``shape``,
-    ``trail``, ``polhode`` and ``exaggeration``."""
+    ``trail``, ``polhode`` and ``view_values``."""
+
+    def figure_view(self) -> physics.figure.View:
+        """What the system's figure is drawn with: the body's drawn size and the view actions' values."""
+        return physics.figure.View(extent=self.shape.extent, **self.view_values)
+
+    def frame_figure(self) -> tuple:
+        """The system's picture of the run's last state (physics.figure primitives, body frame, m)."""
+        sc = self.scenario
+        state = physics.figure.row_state(self.run.last.internal, 0)
+        return tuple(physics.get_system(sc.system).figure(sc, state, self.figure_view()))
 
     def frame(self) -> Frame:
         run = self.run
@@ -79,21 +94,7 @@ class FrameMixin:
                    axis_vec=to_scene(axis) * 0.9 * size,
                    torque_vec=None if torque is None else to_scene(torque) / (np.linalg.norm(torque)) * 0.6 * size,
                    status=run.status, message=run.message, applied=self.applied_seq)
-        sc = self.scenario
-        if sc.mass is not None and "ux" in last.internal:
-            u = np.array([last.internal[k][0] for k in ("ux", "uy", "uz")])
-            drawn, fr.mass_capped = drawn_displacement(u, self.exaggeration, self.shape.extent)
-            fr.mass_rest, fr.mass_pos = mass_points(sc.mass.rho, drawn, 1.0)
-        elif sc.mass is not None:
-            fr.mass_rest, fr.mass_pos = mass_points(sc.mass.rho, np.zeros(3), 1.0)
-        if sc.pendulum is not None:
-            a = last.internal.get("alpha", [0.0])[0]
-            b = last.internal.get("beta", [0.0])[0]
-            chart = last.internal.get("chart", [0.0])[0]  # the angles' chart (near the gimbal pole: 1)
-            fr.bobs = [spherical_bob(sc.pendulum.h, sc.pendulum.l, a, b, chart)]
-        for i, pp in enumerate(parts.array_items(sc)):
-            a = last.internal.get(f"a{i + 1}", [0.0])[0]
-            fr.bobs.append(plane_bob(*pp.geometry(), pp.l, a))
+        fr.figure = self.frame_figure()
         fr.trail = self.trail.values() * 0.9 * size  # the e3 arrow's tip draws it
         if self.show_polhode:
             fr.polhode = self.polhode.values()

@@ -127,33 +127,6 @@ def ellipsoid_axes(A: float, B: float, C: float, size: float) -> np.ndarray:
     return size * s / s.max()
 
 
-# ---- the internal parts ----------------------------------------------------------------------
-
-def mass_points(rho: float, u: np.ndarray, exaggeration: float) -> tuple[np.ndarray, np.ndarray]:
-    """(rest point O1 = rho e3, drawn mass position O1 + exaggeration * u), body frame, m."""
-    rest = rho * E3
-    return rest, rest + exaggeration * np.asarray(u, dtype=float)
-
-
-def spherical_bob(h: float, l: float, alpha: float, beta: float,
-                  chart: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """(pivot h e3, bob pivot + l e) with e = R_x(alpha) R_y(beta) e3 in chart 0, e = R_y(alpha) R_x(beta) e3 in
-    chart 1 (the angles the run uses near chart 0's pole, physics/compiled/pendulum.py)."""
-    sa, ca, sb, cb = math.sin(alpha), math.cos(alpha), math.sin(beta), math.cos(beta)
-    e = np.array([sb, -sa * cb, ca * cb]) if chart < 0.5 else np.array([sa * cb, -sb, ca * cb])
-    pivot = h * E3
-    return pivot, pivot + l * e
-
-
-def plane_bob(hinge, axis, arm, l: float, a: float) -> tuple[np.ndarray, np.ndarray]:
-    """(hinge, bob hinge + l (cos a e0 + sin a f)), f = n x e0 (physics/compiled/pendulum.py)."""
-    n = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-    e0 = np.asarray(arm, dtype=float) / np.linalg.norm(arm)
-    f = np.cross(n, e0)
-    hinge = np.asarray(hinge, dtype=float)
-    return hinge, hinge + l * (math.cos(a) * e0 + math.sin(a) * f)
-
-
 # ---- ring buffers ----------------------------------------------------------------------------
 
 class Ring:

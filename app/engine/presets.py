@@ -130,8 +130,8 @@ def system_template(system: str) -> tuple[physics.Scenario, str]:
 
 
 def _with_start(data: dict) -> physics.Scenario:
-    """The scenario of ``data``; a start the system refuses (a quasi-static mass: pendulum bobs start at rest)
-    falls back to its default."""
+    """The scenario of ``data``; a start the system refuses (a quasi-static start for a part that starts at
+    rest) falls back to its default."""
     try:
         return physics.Scenario.from_dict(data)
     except physics.ScenarioError as exc:
@@ -154,8 +154,12 @@ def system_scenes(current: physics.Scenario, system: str) -> list[tuple[physics.
     out = []
     try:
         out.append((_with_start(data), f"{name}, body kept"))
-        if isinstance(data.get("pendulum", {}).get("k"), str):
-            data["pendulum"]["k"] = float(physics.derived(template)["k"])  # the template's spring, as a number
+        resolved = physics.get_system(system).values(template)
+        words = [(t, k) for t, table in data.items() if isinstance(table, dict)
+                 for k, v in table.items() if isinstance(v, str) and f"{t}.{k}" in resolved]
+        if words:  # a value in words (a resonant spring): the template's, as the number it resolves to
+            for t, k in words:
+                data[t][k] = float(resolved[f"{t}.{k}"])
             out.append((_with_start(data), f"{name}, body kept"))
     except physics.ScenarioError:
         pass

@@ -10,7 +10,8 @@ import viser
 
 import physics
 
-from ..engine import controls, edits, parts, presets, words
+from ..engine import controls, edits, presets, words
+from ..engine.actions import system_actions
 from ..engine.compare import readout_md as compare_readout_md
 from ..engine.engine import Engine
 from ..engine.mesh import INERTIA_SHAPE, asset_names
@@ -26,6 +27,7 @@ from .energy_plot import EnergyChart
 from .playbar import Playbar
 
 EDITED = " (edited)"  # the preset dropdown's name for a preset changed since it was loaded
+ALL = "all"  # an item action's first option: the sliders edit every item
 
 
 class Panel:
@@ -36,6 +38,32 @@ class Panel:
         self.engine = engine
         self.restore = restore  # whether the browser's last scene may replace the one the tab starts with
         self._build_gui()
+
+    def __getattr__(self, name: str):
+        """A system's action's widget by the action's name (``panel.pivot``): the names come from physics."""
+        widgets = self.__dict__.get("action_widgets", {})
+        if name in widgets:
+            return widgets[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def _add_actions(self, folder: str) -> None:
+        """The widgets of every system's actions (physics.figure.Action) that sit in ``folder``, one per name;
+        shown for a scene whose system has the action and what it acts on (``sync``)."""
+        gui, eng = self.client.gui, self.engine
+        for a in system_actions(None):
+            if a.folder != folder or a.name in self.action_widgets:
+                continue
+            if a.kind == "button":
+                h = gui.add_button(a.label, hint=a.hint)
+            elif a.kind == "choice":
+                h = gui.add_dropdown(a.label, list(a.options), initial_value=eng.choices.get(a.key, a.options[0]),
+                                     hint=a.hint)
+            elif a.kind == "item":
+                h = gui.add_dropdown(a.label, [ALL, *a.options_of(eng.scenario)], initial_value=ALL, hint=a.hint)
+            else:
+                h = gui.add_slider(a.label, min=a.lo, max=a.hi, step=a.step or (a.hi - a.lo) / 100,
+                                   initial_value=float(min(max(getattr(eng, a.key), a.lo), a.hi)), hint=a.hint)
+            self.action_widgets[a.name] = h
 
     def _build_gui(self) -> None:
         gui, eng = self.client.gui, self.engine
@@ -76,29 +104,21 @@ class Panel:
             self.overlay = gui.add_dropdown("Overlay prediction", list(OVERLAYS),
                                             initial_value="none",
                                             hint="a cheaper fidelity's theta(t), computed with physics.simulate")
-            self.tune_btn = gui.add_button("Tune to resonance", hint="spherical pendulum: k = resonant (MODELS B.5)")
+            self.action_widgets: dict = {}
+            self._add_actions("Model")
         self.panels: dict = {}
         self._panels_scene = None  # the scenario the study panels last judged their results against
         self.sliders, self.folders = _build_sliders(gui, eng.values)
         folder_of = {key: self.folders[title] for title, keys in controls.FOLDERS for key in keys}
         self.notes = NotePlace(gui, self.sliders, folder_of, self.error_md.order,
                                undo=lambda: eng.request("undo"), reset=lambda: eng.request("reload"))
-        with self.folders["Pendulum damper"]:
-            self.bob = gui.add_dropdown("bob", ["all", "1", "2", "3"], initial_value="all",
-                                        hint="plane pendulums: which bob the sliders above edit")
-            self.pivot = gui.add_dropdown("pivot", list(physics.PIVOTS), initial_value=eng.pivot_choice,
-                                          visible=eng.scenario.pendulum is not None,
-                                          hint="what the spring and damper act on: cardan, the two gimbal angles "
-                                          "(the paper's model; a swing through the gimbal pole stops with a spring); "
-                                          "isotropic, the arm's direction (the same for small swings, and it goes on "
-                                          "through the pole)")
+        for title, folder in self.folders.items():
+            with folder:
+                self._add_actions(title)
         with gui.add_folder("View"):
             self.view = gui.add_dropdown("Frame", ["inertial", "body"], initial_value="inertial",
                                          hint="inertial: K fixed and pointing up; body: the body stays still")
-            self.exag = gui.add_slider("exaggerate u (x)", min=1.0, max=1000.0, step=1.0,
-                                       initial_value=float(eng.exaggeration),
-                                       hint="the mass's displacement is drawn this many times larger (each scene "
-                                       "starts with a factor that keeps it within the body; shown beside the mass)")
+            self._add_actions("View")
             self.polhode = gui.add_checkbox("polhode", False, hint="the tip of omega on the inertia ellipsoid, in "
                                             "the body (Poinsot): closed loops when nothing dissipates")
             self.sphere = gui.add_checkbox("momentum sphere", eng.show_sphere,
@@ -110,6 +130,9 @@ class Panel:
                                               initial_value=INERTIA_SHAPE,
                                               hint="a mesh from assets/meshes: its inertia ratios replace A, B, C "
                                               "(scaled to keep A + B + C); restarts the run")
+        for title in dict.fromkeys(a.folder for a in system_actions(None) if a.name not in self.action_widgets):
+            with gui.add_folder(title):  # an action in a folder the panel does not have: a folder of its own
+                self._add_actions(title)
         self.compare = ComparePanel(gui, eng)  # the Compare folder: a second run with one difference
         with gui.add_folder("File", expand_by_default=False):
             self.toml_btn = gui.add_button("Download scenario (TOML)")
@@ -140,7 +163,14 @@ class Panel:
             def _(_event):
                 eng.request(action)
 
-        click(self.tune_btn, "tune")
+        for a in system_actions(None):
+            h = self.action_widgets[a.name]
+            if a.kind == "button":
+                click(h, a.name)
+            elif a.kind == "item":
+                on(h, a.name, lambda v, a=a: None if v == ALL else list(a.options_of(eng.scenario)).index(v))
+            else:
+                on(h, a.name)
         on(self.warp, "warp", lambda v: 10.0 ** float(v))
         on(self.restart, "restart_on_change")
 
@@ -156,12 +186,9 @@ class Panel:
         on(self.overlay, "overlay")
         on(self.plots.span, "plots", lambda v: plots.SPANS[v])
         on(self.view, "view")
-        on(self.exag, "exaggeration")
         on(self.polhode, "polhode")
         on(self.sphere, "sphere")
         on(self.body_mesh, "mesh")
-        on(self.bob, "bob", lambda v: None if v == "all" else int(v) - 1)
-        on(self.pivot, "pivot")
         for key, slider in self.sliders.items():
             self._bind_slider(key, slider)
 
@@ -218,16 +245,19 @@ class Panel:
         shown = controls.folders_of(system)  # the body's, the start's and the system's own
         for title, folder in self.folders.items():
             set_if_changed(folder, "visible", title in shown)
-        set_if_changed(self.tune_btn, "visible", controls.owns_table(system, controls.TUNE_KEY))
-        n = len(parts.array_items(eng.scenario))
-        set_if_changed(self.bob, "visible", n > 0)
-        if n > 0:
-            set_if_changed(self.bob, "options", ("all", *(str(i + 1) for i in range(n))))
-            set_if_changed(self.bob, "value", "all" if eng.bob is None else str(eng.bob + 1))
+        own = {a.name: a for a in system_actions(eng.scenario)}
+        for name, h in self.action_widgets.items():
+            a = own.get(name)
+            shown = a is not None and a.shown(eng.scenario)
+            set_if_changed(h, "visible", shown)
+            if shown and a.kind == "item":
+                options = (ALL, *a.options_of(eng.scenario))
+                set_if_changed(h, "options", options)
+                set_if_changed(h, "value", ALL if eng.item is None else options[eng.item + 1])
+            elif shown and a.kind == "view":  # each scene's own value (the action's initial)
+                set_if_changed(h, "value", float(min(max(getattr(eng, a.key), a.lo), a.hi)))
         set_if_changed(self.body_mesh, "value", eng.mesh.name if eng.mesh is not None and eng.mesh.name in asset_names()
              else INERTIA_SHAPE)
-        set_if_changed(self.exag, "value", float(eng.exaggeration))  # each scene's own factor (app.engine.mass_view)
-        set_if_changed(self.exag, "visible", eng.scenario.mass is not None)
         for panel in self.panels.values():  # a new scene may have other sliders to sweep
             if hasattr(panel, "refresh"):
                 panel.refresh()
@@ -239,15 +269,17 @@ class Panel:
         self._sync_choices()
 
     def _sync_choices(self) -> None:
-        """auto's accuracy, shown while auto is the fidelity, and the spherical pendulum's pivot: the scene's.
+        """auto's accuracy, shown while auto is the fidelity, and the systems' choice actions: the scene's.
         Each frame, on purpose: a value the engine refused (a raw client's) is set back on the page this way;
         ``set_if_changed`` sends only what differs."""
         eng = self.engine
         set_if_changed(self.accuracy, "options", tuple(controls.accuracy_options(eng.accuracy_choice)))
         set_if_changed(self.accuracy, "value", controls.accuracy_label(eng.accuracy_choice))
         set_if_changed(self.accuracy, "visible", eng.fidelity_choice == "auto")
-        set_if_changed(self.pivot, "value", eng.pivot_choice)
-        set_if_changed(self.pivot, "visible", eng.scenario.pendulum is not None)
+        own = {a.name for a in system_actions(eng.scenario, "choice") if a.shown(eng.scenario)}
+        for a in system_actions(None, "choice"):
+            set_if_changed(self.action_widgets[a.name], "value", eng.choices.get(a.key, a.options[0]))
+            set_if_changed(self.action_widgets[a.name], "visible", a.name in own)
 
     def _sync_preset(self) -> None:
         """The preset dropdown names the scene shown: its preset, "<preset> (edited)" once changed, or the

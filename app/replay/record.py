@@ -138,7 +138,7 @@ def copy_of_tab(eng: Engine) -> Engine:
     own run. A tab that made more changes than it keeps (RETUNES_KEPT) is recorded on its present scene."""
     copy = Engine(eng.start_scenario if eng.retunes is not None else eng.scenario, mesh=eng.mesh)
     copy.view = eng.view
-    copy.exaggeration = eng.exaggeration
+    copy.view_values = dict(eng.view_values)
     copy.show_polhode = eng.show_polhode
     copy.warp = eng.warp
     return copy

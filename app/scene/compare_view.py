@@ -1,5 +1,6 @@
 """The second body of compare mode (app.engine.compare) in one tab's scene: its shape, translucent and in another
-colour, its moving mass or bobs, its K, omega and e3 arrows, and a label naming its difference. Beside the
+colour, its system's figure (app.scene.figure_view, dimmed), its K, omega and e3 arrows, and a label naming its
+difference. Beside the
 first body (to its right on screen, the momentum sphere being on the left) or superimposed on it: beside is
 the default, as two translucent bodies in one place with six arrows are hard to tell apart until they
 diverge; superimposed shows the divergence itself, from one shared start.
@@ -9,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine import parts
 from ..engine.compare import PLACES, frame_of
 from ..engine.geometry import box_mesh, cylinder_mesh
 from ..handles import set_if_changed
+from .figure_view import FigureNodes
 from .legend import COLORS
 
 # to the right of the first body on screen from the starting camera (screen right is about (0.75, 0.66, 0):
@@ -21,6 +22,7 @@ OFFSETS = {"beside": (1.3, 0.9, 0.0), "superimposed": (0.0, 0.0, 0.0)}
 BODY_COLOR = (235, 140, 50)  # the second body: orange, against the first's blue
 ARROW_TINT = 0.45  # the second body's arrows: the first's colours mixed this much with white
 OPACITY = 0.3
+PART_OPACITY, PART_SCALE = 0.7, 0.9  # its parts: see-through and a little smaller than the first body's
 
 
 def _tint(color) -> tuple[int, int, int]:
@@ -35,6 +37,7 @@ class CompareView:
         self.engine = engine
         self.name = f"{root}_cmp"
         self.nodes: dict = {}
+        self.parts: FigureNodes | None = None
         self._built = None
         self.builds = 0
 
@@ -42,12 +45,11 @@ class CompareView:
         c = self.engine.compare
         if c is None:
             return None
-        sc = c.scenario
-        self.place = getattr(self.engine, "compare_place", PLACES[0])  # app.panel.compare_panel's "second body"
-        return (id(c), c.shape, id(self.engine.mesh), k, self.place, sc.mass is not None, "ux" in c.run.last.internal,
-                parts.bob_count(sc), sc.mass.rho if sc.mass else None)
+        self.place = getattr(self.engine, "compare_place", PLACES[0])  # app.compare_panel's "second body"
+        return (id(c), c.shape, id(self.engine.mesh), k, self.place)
 
     def _clear(self) -> None:
+        self.parts = None
         for key in ("root", "first"):  # the root's children go with it
             if key in self.nodes:
                 try:
@@ -73,14 +75,7 @@ class CompareView:
         h["body"] = sc.add_frame(f"{n}/body", show_axes=False)
         sc.add_mesh_simple(f"{n}/body/shape", np.asarray(vertices) * k, faces, color=BODY_COLOR, opacity=OPACITY,
                            flat_shading=False)
-        if c.scenario.mass is not None:
-            h["mass"] = sc.add_icosphere(f"{n}/body/mass", radius=0.045 * size, color=COLORS["mass"], opacity=0.7)
-            h["spring"] = sc.add_line_segments(f"{n}/body/spring", np.zeros((1, 2, 3)), COLORS["spring"],
-                                               thickness=0.006 * size)
-        for i in range(parts.bob_count(c.scenario)):
-            h[f"arm{i}"] = sc.add_line_segments(f"{n}/body/arm{i}", np.zeros((1, 2, 3)), COLORS["arm"],
-                                                thickness=0.01 * size)
-            h[f"bob{i}"] = sc.add_icosphere(f"{n}/body/bob{i}", radius=0.035 * size, color=COLORS["bob"], opacity=0.7)
+        self.parts = FigureNodes(sc, f"{n}/body", opacity=PART_OPACITY, scale=PART_SCALE, words=False)
         colors = np.array([_tint(COLORS[x]) for x in ("K", "omega", "axis")], dtype=np.uint8)
         h["arrows"] = sc.add_arrows(f"{n}/arrows", np.zeros((3, 2, 3)), colors, shaft_radius=0.01 * size,
                                     head_radius=0.03 * size, head_length=0.07 * size)
@@ -106,13 +101,7 @@ class CompareView:
         h["body"].wxyz = fr.body_wxyz
         origin = np.zeros(3)
         h["arrows"].points = np.array([[origin, k * v] for v in (fr.K_vec, fr.omega_vec, fr.axis_vec)])
-        if fr.mass_pos is not None and "mass" in h:
-            h["mass"].position = tuple(k * fr.mass_pos)
-            h["spring"].points = k * np.array([[fr.mass_rest, fr.mass_pos]])
-        for i, (pivot, bob) in enumerate(fr.bobs):
-            if f"bob{i}" in h:
-                h[f"bob{i}"].position = tuple(k * bob)
-                h[f"arm{i}"].points = k * np.array([[pivot, bob]])
+        self.parts.move(fr.figure, k, size)  # its first frame, or a figure with other names, draws the nodes
         if plots_now:
             status = "" if fr.status == "running" else f" ({fr.status})"
             set_if_changed(h["label"], "text", f"run 2: {self.engine.compare.diff.label()}{status}")

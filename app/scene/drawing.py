@@ -1,5 +1,6 @@
 """One tab's 3-D scene: the body (its uniform shape or a mesh) inside its inertia ellipsoid, the internal
-parts, the K, omega, e3 and braking-torque arrows with their labels, the e3 trail and the polhode.
+parts (the system's figure, app.scene.figure_view), the K, omega, e3 and braking-torque arrows with their labels, the
+e3 trail and the polhode.
 ``draw_static`` redraws what changes only with the parameters; ``update`` moves what a frame moves.
 """
 
@@ -10,9 +11,9 @@ import viser
 
 from ..engine.engine import Engine
 from ..engine.geometry import box_mesh, cylinder_mesh, trail_segments
-from ..engine.mass_view import factor_label
 from ..handles import set_if_changed
 from .compare_view import CompareView
+from .figure_view import FigureNodes
 from .labels import label_groups
 from .legend import COLORS, LegendView, parts_of
 from .sphere_view import SphereView
@@ -44,12 +45,13 @@ class Drawing:
         sc.add_grid(f"{self.root}_grid", width=6.0, height=6.0, cell_size=0.25, position=(0.0, 0.0, -1.4))
         self.world = sc.add_frame(self.root, show_axes=False)
         self.handles: dict = {}
+        self.parts = FigureNodes(sc, f"{self.root}/body")
         self.draw_static()
         self.sphere = SphereView(sc, self.root, self.engine)  # K in body axes beside the body (app.scene.sphere_view)
         self.compare = CompareView(sc, self.root, self.engine)  # compare mode's second body (app.scene.compare_view)
 
     def draw_static(self) -> None:
-        """The parts that change only with the parameters: body shape, ellipsoid, parts' anchors."""
+        """The parts that change only with the parameters: body shape, ellipsoid, the figure's nodes."""
         eng, sc, r = self.engine, self.client.scene, self.root
         old = [h for v in self.handles.values() for h in (v if isinstance(v, list) else [v])]
         for h in reversed(old):  # children before their parent frame
@@ -60,6 +62,7 @@ class Drawing:
             except Exception:
                 pass
         self.handles = {}
+        self.parts.forget()  # under /body, removed with it above
         shape = eng.shape
         k = self.k = SCENE_SIZE / shape.extent  # scene units per metre: every body looks the same size
         s = SCENE_SIZE
@@ -79,25 +82,7 @@ class Drawing:
         # back faces only: a translucent shell still writes depth, and three.js sorts translucent nodes by
         # their bounding spheres' centres, so a mesh whose centre is off the origin (the satellite's dish) was
         # drawn after the ellipsoid's near face and hidden behind it; the far face hides nothing inside
-        scn = eng.scenario
-        if scn.cavity is not None:
-            self.handles["cavity"] = sc.add_icosphere(f"{r}/body/cavity", radius=max(scn.cavity.a0 * k, 0.03 * s),
-                                                      color=COLORS["cavity"], opacity=0.35)
-        if scn.mass is not None:
-            self.handles["rest"] = sc.add_icosphere(f"{r}/body/rest", radius=0.025 * s, color=COLORS["rest"],
-                                                    position=(0.0, 0.0, scn.mass.rho * k))
-            self.handles["mass"] = sc.add_icosphere(f"{r}/body/mass", radius=0.05 * s, color=COLORS["mass"])
-            self.handles["spring"] = sc.add_line_segments(f"{r}/body/spring", np.zeros((1, 2, 3)), COLORS["spring"],
-                                                          thickness=0.008 * s)
-            self.handles["exag"] = sc.add_label(f"{r}/body/exag_label", factor_label(eng.exaggeration, False),
-                                                position=(0.0, 0.0, scn.mass.rho * k + 0.1 * s))
-            self.handles["mount"] = sc.add_line_segments(  # the rest point is part of the body, however far out
-                f"{r}/body/mount", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, scn.mass.rho * k]]]), COLORS["mount"],
-                thickness=0.006 * s)
-        for i, _ in enumerate(eng.frame().bobs):
-            self.handles[f"arm{i}"] = sc.add_line_segments(f"{r}/body/arm{i}", np.zeros((1, 2, 3)), COLORS["arm"],
-                                                           thickness=0.012 * s)
-            self.handles[f"bob{i}"] = sc.add_icosphere(f"{r}/body/bob{i}", radius=0.04 * s, color=COLORS["bob"])
+        self.parts.draw(eng.frame_figure(), k, s)
         arrows = np.zeros((4, 2, 3))
         colors = np.array([COLORS["K"], COLORS["omega"], COLORS["axis"], COLORS["torque"]], dtype=np.uint8)
         self.handles["arrows"] = sc.add_arrows(f"{r}/arrows", arrows, colors, shaft_radius=0.012 * s,
@@ -135,18 +120,10 @@ class Drawing:
                     lab.position = tuple(groups[i][1])
                 set_if_changed(lab, "visible", i < len(groups))
             self.legend.show(parts_of(eng.scenario, view=eng.view, polhode=fr.polhode is not None,
-                                      mesh=eng.mesh.name if eng.mesh is not None else None,
-                                      exaggeration=eng.exaggeration, mass_moves="ux" in eng.run.last.internal,
+                                      mesh=eng.mesh.name if eng.mesh is not None else None, figure=fr.figure,
                                       braking=fr.torque_vec is not None, sphere=eng.show_sphere,
                                       second=eng.compare.diff.label() if eng.compare is not None else None))
-        if fr.mass_pos is not None and "mass" in h:
-            h["mass"].position = tuple(k * fr.mass_pos)
-            h["spring"].points = k * np.array([[fr.mass_rest, fr.mass_pos]])
-            set_if_changed(h["exag"], "text", factor_label(eng.exaggeration, fr.mass_capped))
-        for i, (pivot, bob) in enumerate(fr.bobs):
-            if f"bob{i}" in h:
-                h[f"bob{i}"].position = tuple(k * bob)
-                h[f"arm{i}"].points = k * np.array([[pivot, bob]])
+        self.parts.move(fr.figure, k, SCENE_SIZE)
         if plots_now and fr.trail is not None and len(fr.trail):
             h["trail"].points = trail_segments(k * fr.trail)
         set_if_changed(h["polhode"], "visible", fr.polhode is not None)

@@ -1,22 +1,37 @@
-"""The 3-D scene's legend: what each arrow, axis line, trail and ball is, listing only the parts the current
-scene draws (no viser here: the tests read it headless, the panel shows it as markdown).
+"""The 3-D scene's legend: what each arrow, axis line, trail and internal part is, listing only the parts the
+current scene draws (no viser here: the tests read it headless, the panel shows it as markdown). The internal
+parts' lines are the system's figure's roles (physics.figure): one line per role, with the role's words, a mark
+for the kind of primitive that draws it and its colour.
 
-The colours are the drawing's (``COLORS``), so a swatch in the legend is the colour on the canvas.
+The colours are the drawing's (``COLORS``, and ``FIGURE_COLORS`` for a figure's colour keys), so a swatch in the
+legend is the colour on the canvas.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..engine import parts
+import physics
 
-COLORS = {"body": (120, 150, 200), "ellipsoid": (240, 200, 80), "mass": (220, 40, 40), "rest": (60, 60, 60),
-          "spring": (40, 40, 40), "K": (30, 160, 60), "omega": (40, 90, 230), "axis": (120, 120, 120),
-          "torque": (220, 60, 200), "trail": (230, 120, 20), "polhode": (150, 40, 200), "bob": (200, 30, 30),
-          "arm": (30, 30, 30), "cavity": (60, 160, 230), "mount": (90, 90, 90)}
+COLORS = {"body": (120, 150, 200), "ellipsoid": (240, 200, 80), "K": (30, 160, 60), "omega": (40, 90, 230),
+          "axis": (120, 120, 120), "torque": (220, 60, 200), "trail": (230, 120, 20), "polhode": (150, 40, 200)}
+# the shades of physics.figure.COLOURS, the palette a system's primitives name, in its order: a part, an anchor,
+# a link, a fluid, a wheel, a marker
+SHADES = ((220, 40, 40), (60, 60, 60), (40, 40, 40), (60, 160, 230), (20, 150, 140), (90, 90, 90))
+FIGURE_COLORS = dict(zip(physics.figure.COLOURS, SHADES, strict=True))
 AXIS_COLORS = ((220, 40, 40), (40, 180, 40), (40, 40, 220))  # viser draws a frame's x, y, z red, green, blue
 
-MARKS = {"arrow": "➜", "line": "━", "ball": "●", "trail": "∿", "solid": "■", "shell": "◯"}
+MARKS = {"arrow": "➜", "line": "━", "ball": "●", "trail": "∿", "solid": "■", "shell": "◯", "disk": "◉",
+         "text": "a"}
+
+
+def mark_of(p) -> str:
+    """The legend's mark for a figure primitive: a ball, a see-through ball (a shell), a line, a disk, words."""
+    if isinstance(p, physics.figure.Ball):
+        return "shell" if p.opacity < 1 else "ball"
+    if isinstance(p, physics.figure.Segment):
+        return "line"
+    return "disk" if isinstance(p, physics.figure.Disk) else "text"
 
 
 @dataclass(frozen=True)
@@ -32,14 +47,9 @@ class Entry:
 @dataclass(frozen=True)
 class SceneParts:
     """What the scene draws now. ``mesh``: the mesh file's name the body is drawn as, or None (the uniform
-    solid of its inertia); ``exaggeration``: the factor the mass's displacement is drawn with."""
+    solid of its inertia); ``figure``: the internal parts' legend lines, one per role of the system's figure."""
 
-    mass: bool = False
-    mass_moves: bool = True  # False: the averaged or closed model, which has no displacement to draw
-    exaggeration: float = 1.0
-    cavity: bool = False
-    bobs: int = 0
-    spherical: bool = False
+    figure: tuple[Entry, ...] = ()
     braking: bool = False
     polhode: bool = False
     sphere: bool = False  # the momentum sphere beside the body (app.scene.sphere_view)
@@ -52,18 +62,38 @@ SECOND_BODY = ((235, 140, 50),)  # app.scene.compare_view.BODY_COLOR (not import
 
 
 def parts_of(scenario, *, view: str = "inertial", polhode: bool = False, mesh: str | None = None,
-             exaggeration: float = 1.0, mass_moves: bool = True, braking: bool | None = None,
-             sphere: bool = False, second: str | None = None) -> SceneParts:
-    """The parts a scenario puts in the scene (physics.Scenario: mass, cavity, pendulums, braking b).
-    ``braking``: whether the torque arrow is drawn now (it goes when the body has stopped); default b > 0."""
+             braking: bool | None = None, sphere: bool = False, second: str | None = None,
+             figure: tuple | None = None, state: dict | None = None, **view_values) -> SceneParts:
+    """The parts a scenario puts in the scene: its system's figure (``figure`` as drawn, else drawn here from
+    ``state``, by default the start of its full model, with the physics.figure.View fields ``view_values``) and
+    the braking torque. ``braking``: whether the torque arrow is drawn now (it goes when the body has stopped);
+    default b > 0."""
     if braking is None:
-        control = getattr(scenario, "control", None)
-        braking = control is not None and float(getattr(control, "b", 0.0)) > 0
-    return SceneParts(mass=scenario.mass is not None, mass_moves=mass_moves, exaggeration=float(exaggeration),
-                      cavity=scenario.cavity is not None,
-                      bobs=parts.bob_count(scenario),
-                      spherical=scenario.pendulum is not None, braking=bool(braking),
-                      polhode=bool(polhode), sphere=bool(sphere), view=view, mesh=mesh, second=second)
+        braking = physics.brake_and_medium(scenario)[0] > 0
+    if figure is None:
+        b = scenario.body
+        drawn = physics.figure.View(extent=physics.figure.body_extent(b.A, b.B, b.C, b.M), **view_values)
+        figure = physics.get_system(scenario.system).figure(scenario, _start(scenario) if state is None else state,
+                                                             drawn)
+    return SceneParts(figure=figure_entries(figure), braking=bool(braking), polhode=bool(polhode),
+                      sphere=bool(sphere), view=view, mesh=mesh, second=second)
+
+
+def _start(sc) -> dict[str, float]:
+    """Zero for every internal coordinate of the system's full model: the parts as a run that moves them has."""
+    model = physics.get_model(sc.system, "full")
+    p = model.pack(sc)
+    names = model.state_names(len(model.initial_state(sc, p)))
+    return dict.fromkeys(names[model.slices(len(names))["internal"]], 0.0)
+
+
+def figure_entries(figure) -> tuple[Entry, ...]:
+    """One legend line per role of a figure, in the figure's order, from the role's first primitive."""
+    out: dict[str, Entry] = {}
+    for p in figure:
+        if p.role and p.role not in out:
+            out[p.role] = Entry(p.role, mark_of(p), (FIGURE_COLORS[p.colour],), p.label)
+    return tuple(out.values())
 
 
 def entries(p: SceneParts) -> list[Entry]:
@@ -82,22 +112,7 @@ def entries(p: SceneParts) -> list[Entry]:
     out.append(Entry("ellipsoid", "shell", (COLORS["ellipsoid"],), "inertia ellipsoid (axes 1/sqrt of A, B, C)"))
     if p.second:
         out.append(Entry("second", "solid", SECOND_BODY, f"orange body: the same scene with {p.second} (compare)"))
-    if p.cavity:
-        out.append(Entry("cavity", "shell", (COLORS["cavity"],), "cavity filled with viscous fluid"))
-    if p.mass:
-        if p.mass_moves:
-            out.append(Entry("mass", "ball", (COLORS["mass"],), f"moving mass m; its displacement u drawn "
-                             f"x {p.exaggeration:g}"))
-            out.append(Entry("spring", "line", (COLORS["spring"],), "spring: rest point to mass"))
-        else:
-            out.append(Entry("mass", "ball", (COLORS["mass"],), "moving mass m, at rest (this fidelity averages "
-                             "its motion)"))
-        out.append(Entry("rest", "ball", (COLORS["rest"],), "rest point O1, on e3 at rho"))
-        out.append(Entry("mount", "line", (COLORS["mount"],), "mount: O1 is fixed to the body"))
-    if p.bobs:
-        what = "spherical pendulum bob" if p.spherical and p.bobs == 1 else "pendulum bob"
-        out.append(Entry("bob", "ball", (COLORS["bob"],), f"{what}{'s' if p.bobs > 1 else ''} ({p.bobs}) "
-                         f"on {'its arm' if p.bobs == 1 else 'their arms'}"))
+    out += p.figure
     out.append(Entry("trail", "trail", (COLORS["trail"],), "trail of e3's tip: the nutation cone, last turns"
                      if inertial else "trail of K's direction in the body, last turns"))
     if p.polhode:

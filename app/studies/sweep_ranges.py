@@ -30,11 +30,9 @@ def scenario_key(slider_key: str, system: str) -> str:
 
 
 def current_value(sc: physics.Scenario, key: str) -> float:
-    """The slider's value in ``sc`` (a tuned spring k as the stiffness it resolves to)."""
-    v = controls.values_of(sc).get(key, 0.0)
-    if key == "pendulum.k" and v == 0 and sc.pendulum is not None and isinstance(sc.pendulum.k, str):
-        v = float(physics.derived(sc).get("k", 0.0))
-    return v
+    """The slider's value in ``sc`` (a value given in words, a tuned spring, as the number it resolves to: the
+    system's ``values``)."""
+    return controls.values_of(sc).get(key, 0.0)
 
 
 def wanted_range(sc: physics.Scenario, key: str) -> tuple[float, float]:

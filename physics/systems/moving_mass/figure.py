@@ -27,6 +27,12 @@ SPRING_THICKNESS, MOUNT_THICKNESS = 0.008, 0.006
 CAVITY_OPACITY = 0.35  # see-through: the mass and the mount show inside it
 
 
+def mass_points(rho: float, u: np.ndarray, exaggeration: float) -> tuple[np.ndarray, np.ndarray]:
+    """(rest point O1 = rho e3, drawn mass position O1 + exaggeration * u), body frame, m."""
+    rest = np.array([0.0, 0.0, float(rho)])
+    return rest, rest + exaggeration * np.asarray(u, dtype=float)
+
+
 def expected_displacement(rho: float, Omega: float, omega: float) -> float:
     """The scale of the mass's displacement, m: the quasi-static answer to the largest centrifugal load on a
     point at distance rho from the centre spinning at |omega| (rad/s), held by a spring of natural frequency
@@ -73,13 +79,13 @@ def figure(sc, state: dict, view) -> tuple:
                         opacity=CAVITY_OPACITY, radius=sc.cavity.a0, size=CAVITY_SIZE))
     if sc.mass is None:
         return tuple(out)
-    rest = np.array([0.0, 0.0, sc.mass.rho])
     moves = "ux" in state
     if moves:
         u = np.array([state["ux"], state.get("uy", 0.0), state.get("uz", 0.0)])
         drawn, capped = drawn_displacement(u, view.exaggeration, view.extent)
     else:
         drawn, capped = np.zeros(3), False
+    rest, _ = mass_points(sc.mass.rho, drawn, 1.0)
     mass = (f"moving mass m; its displacement u drawn x {view.exaggeration:g}" if moves
             else "moving mass m, at rest (this fidelity averages its motion)")
     out.append(Ball("mass", "mass", mass, "part", size=MASS_SIZE, centre=rest + drawn))
