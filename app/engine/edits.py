@@ -75,7 +75,7 @@ def rejected_text(key: str, value: float, reason: str, kept: float | None) -> st
     elif reason.startswith(head) and ": " in reason:
         reason = reason.partition(": ")[2]
     p = controls.BY_KEY.get(key)
-    if p is not None and _number(value) and value < 0 and re.search(r"\b0 = no", p.meaning):
+    if p is not None and _number(value) and value < 0 and re.search(r"\b0 = no", p.hint):
         reason += f" (0 removes the {key.partition('.')[0]})"  # a switch: the Param says that 0 means none
     stays = "" if kept is None else f" {_name(key)} stays {_with_unit(key, kept)}."
     return f"Rejected: {_name(key)} = {_with_unit(key, value)}: {reason.rstrip('.')}.{stays}"
