@@ -67,3 +67,12 @@ def test_the_check_finds_a_name_when_there_is_one(tmp_path):
     good = tmp_path / "good.py"
     good.write_text(f'"""Draws the {table.name}."""\n# {key}\nx = 1\n', encoding="utf-8")
     assert _code_names(good, attributes, strings) == []
+
+
+def test_physics_sizes_a_figure_by_the_body_the_app_draws():
+    """physics.figure.body_extent (what a system's sizes and the figure battery's bound are fractions of) is the
+    extent of the solid the explorer draws for the body."""
+    from app.engine.geometry import body_shape
+
+    for A, B, C, M in [(1.0, 1.0, 1.4, 1.0), (1.0, 1.0, 0.5, 2.0), (1.5, 1.0, 2.0, 1.0), (2.0, 2.0, 2.0, 5e-324)]:
+        assert physics.figure.body_extent(A, B, C, M) == body_shape(A, B, C, M).extent
