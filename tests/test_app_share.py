@@ -414,3 +414,13 @@ def test_a_server_started_on_its_own_scene_keeps_it_over_the_browsers_last():
     restoring._read_storage()
     restoring.engine.tick(0.0)
     assert restoring.engine.scenario.mass.chi == 9.5 and "restored" in restoring.status()
+
+
+def test_every_preset_title_is_offered_once_and_means_one_scene():
+    """A title both a system's example and a shipped file carry (the wheel damper's) is one option: the page's
+    dropdown refuses repeated options, and no session started when it had one. Where an example and a file
+    share a title they must be the same scene, or one would hide the other."""
+    assert len(PRESETS) == len(set(PRESETS))
+    files, shown = presets.preset_files(), presets.examples()
+    for title in set(files) & set(shown):
+        assert physics.Scenario.load(files[title]).to_dict() == physics.Scenario.from_toml(shown[title]).to_dict()

@@ -73,9 +73,12 @@ def preset_files() -> dict[str, Path]:
 
 
 def preset_names() -> list[str]:
+    """Each title once: a system's example that is also shipped as a file (so that ``python -m physics run``
+    has it) is one preset, not two (a dropdown with a repeated option does not open on the page)."""
     files = preset_files()
     figures = [t for t, f in files.items() if f.parent == FIGURES]
-    return [DEFAULT] + [t for t in files if t not in figures] + list(BUILT_IN) + list(examples()) + figures
+    names = [DEFAULT] + [t for t in files if t not in figures] + list(BUILT_IN) + list(examples()) + figures
+    return list(dict.fromkeys(names))
 
 
 def load_preset(name: str) -> physics.Scenario:
