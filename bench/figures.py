@@ -328,7 +328,7 @@ def fig_seed002_frequencies(out: Path, quick: bool) -> list[Path]:
     fig, ax = plt.subplots(figsize=(7.5, 5))
     ax.plot(d["W"], d["lambda1"], lw=2, label="lambda_1, eq. (6) with reduced mass mu (= |omega_0 - W|)")
     ax.plot(d["W"], d["lambda2"], lw=2, label="lambda_2, eq. (6) with mu (= omega_0 + W)")
-    # the paper's m instead of mu (MODELS B.9 item 1) moves these by mu/m - 1 = 1 % here: in the CSV, not drawn
+    # the paper's m instead of mu (docs/models.md B.9 item 1) moves these by mu/m - 1 = 1 % here: in the CSV, not drawn
     ax.plot(d["W"], d["Omega"], "k--", lw=1, label="free nutation Omega = (C - A) W / A (carrier of set R)")
     ax.plot([2.0], [1.0], "ro", label="resonance (14): lambda_1 = Omega at W = 2")
     ax.set_xlabel("spin rate W = omega_z0, rad/s")
@@ -354,7 +354,7 @@ def resonance_point(ratio: float) -> tuple[physics.Scenario, float]:
 def seed002_resonance_data(quick: bool = False) -> dict:
     """Nutation decay time 1/rate against omega_0/omega_0,res at c_d = 8 (set R): the linear theory's slowest
     decay rate, and full-model runs at 1 deg fitted over the 0.8 .. 0.01 theta0 window."""
-    # below omega_0 = W (ratio 2/3) the damped pendulum whirls unstably (MODELS B.4): start above it
+    # below omega_0 = W (ratio 2/3) the damped pendulum whirls unstably (docs/models.md B.4): start above it
     ratios = np.linspace(0.7, 1.5, 41 if quick else 161)
     lin = np.array([1.0 / pl.slowest_decay_rate(pl.spherical_linear(pendulum_system(set_R(k=_k_of(r)))))
                     for r in ratios])
@@ -385,7 +385,7 @@ def fig_seed002_resonance(out: Path, quick: bool) -> list[Path]:
 
 
 def scaled_R(eps: float, theta0: float = 1 * DEG, t_end: float = 240.0, samples: int = 4001) -> physics.Scenario:
-    """Set R with the coupling D (through h) and the damping c_d scaled by eps (MODELS B.6's accuracy test)."""
+    """Set R with the coupling D (through h) and the damping c_d scaled by eps (docs/models.md B.6's accuracy test)."""
     l = 1.0
     return set_R(theta0, h=-l + 0.3 * eps, c_d=8.0 * eps, t_end=t_end, samples=samples).with_values(
         **{"run.rtol": 1e-11})

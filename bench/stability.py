@@ -4,7 +4,7 @@
    Omega = 1/eps grows, against the cost (evaluations) of the adaptive explicit and the implicit
    (scipy Radau, BDF) methods on the same problems;
 2. drift: |K| and E over 10^4 revolutions of the undamped moving mass for each method, with
-   MuJoCo's implicitfast integrator as the known failing peer (MODELS A.7);
+   MuJoCo's implicitfast integrator as the known failing peer (docs/models.md A.7);
 3. validity: the averaged model's theta error against the full model over (eps, theta0);
 4. braking: how each method copes with the discontinuous control at |G| -> 0, and where it stops,
    against the exact braking time T (seed 004 eq. (10)).
@@ -188,7 +188,7 @@ def drift(quick: bool, out: Path, img: Path) -> list[dict]:
 def validity(quick: bool, out: Path, img: Path) -> list[dict]:
     eps_list = (0.3, 0.2, 0.1) if quick else (0.3, 0.2, 0.1, 0.05)
     thetas = (0.3, 1.0) if quick else (0.3, 0.6, 1.0, 1.3)
-    frac = 0.02 if quick else 0.25  # of MODELS A.7(a)'s slow horizon, 13333 (0.1/eps)^3 s
+    frac = 0.02 if quick else 0.25  # of docs/models.md A.7(a)'s slow horizon, 13333 (0.1/eps)^3 s
     R.log(f"stability 3/4: averaged model's error over eps x theta0 ({frac:g} of the slow horizon)")
     rows = []
     for eps in eps_list:
@@ -225,7 +225,7 @@ def validity(quick: bool, out: Path, img: Path) -> list[dict]:
     a2.grid(True, which="both", alpha=0.3)
     a2.legend(fontsize=8)
     R.save_figure(fig, img / "stability_validity.png",
-                  "Averaged model's validity: error against eps and theta0 (prolate, MODELS A.7(a))")
+                  "Averaged model's validity: error against eps and theta0 (prolate, docs/models.md A.7(a))")
     return rows
 
 

@@ -279,7 +279,7 @@ def _averaged_vs_full(quick: bool) -> dict:
     err_slow = float(np.max(np.abs(full.theta - slow_theta)))
     err = float(np.max(np.abs(full.theta - avg.theta)))
     err_closed = float(np.max(np.abs(full.theta - closed.theta)))
-    bound = 0.1 * eps**2  # MODELS A.7(a): 1.881e-4 at eps = 0.05 (prolate), i.e. 0.075 eps^2
+    bound = 0.1 * eps**2  # docs/models.md A.7(a): 1.881e-4 at eps = 0.05 (prolate), i.e. 0.075 eps^2
 
     def met(wall, e):
         return bool(wall_full / wall >= 1000 and e <= bound)

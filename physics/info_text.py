@@ -2,7 +2,7 @@
 
 Text for people (6 significant digits, one ``name = value unit  meaning`` line each) and JSON for
 programs (every float to full precision; inf and nan, which JSON lacks, as the strings "inf", "nan").
-Names and equations are those of ../shared/MODELS.md and physics/systems/derived.py; each system declares the
+Names and equations are those of docs/models.md and physics/systems/derived.py; each system declares the
 units and meanings of its own quantities (``System.quantities``, ``System.quantity``).
 """
 

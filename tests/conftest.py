@@ -1,4 +1,4 @@
-"""Shared scenario builders for the physics tests (MODELS.md A.7(a) reference setup)."""
+"""Shared scenario builders for the physics tests (docs/models.md A.7(a) reference setup)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import physics
 def reference(eps: float, C: float, theta0: float, t_end: float, *, samples: int = 401, rtol: float = 1e-11,
               chi: float | None = None, lam_q: float = 0.0, extra: dict | None = None,
               mass_state: str = "quasistatic") -> physics.Scenario:
-    """MODELS A.7(a): A = 1, m = 0.1, m/M = 0.1, rho = 1.5, Omega = 1/eps, chi = Omega, G0 = 1."""
+    """docs/models.md A.7(a): A = 1, m = 0.1, m/M = 0.1, rho = 1.5, Omega = 1/eps, chi = Omega, G0 = 1."""
     Om = 1.0 / eps
     data = {
         "body": {"A": 1.0, "C": C, "M": 1.0},

@@ -1,4 +1,4 @@
-"""Closed forms of MODELS.md Part A against numerical integration of their own averaged ODEs.
+"""Closed forms of docs/models.md Part A against numerical integration of their own averaged ODEs.
 
 The averaged equations are plain numpy right-hand sides written independently of the model code
 (physics/reference/averaged_equations.py): seed 004 eq. (1), seed 000 eqs. (2.5) and (3.2). They are

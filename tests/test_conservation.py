@@ -1,4 +1,4 @@
-"""Conservation: inertial angular momentum and the energy balance of the full model (MODELS A.2)."""
+"""Conservation: inertial angular momentum and the energy balance of the full model (docs/models.md A.2)."""
 
 from __future__ import annotations
 

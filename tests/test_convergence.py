@@ -1,9 +1,9 @@
 """Convergence: the averaged model's theta error against the full model shrinks as O(eps^2).
 
-Setup of MODELS.md A.7(a) (A = 1, m = 0.1, m/M = 0.1, rho = 1.5, Omega = 1/eps, chi = Omega, G0 = 1,
+Setup of docs/models.md A.7(a) (A = 1, m = 0.1, m/M = 0.1, rho = 1.5, Omega = 1/eps, chi = Omega, G0 = 1,
 the full model started on the slow manifold). The horizon is a fixed slice of the slow time scale
 ~1/(kappa eps^3 omega), so every eps sees the same stretch of the nutation law; the error is
-uniform in slow time (MODELS A.5), so a slice measures the same order as the whole run at a
+uniform in slow time (docs/models.md A.5), so a slice measures the same order as the whole run at a
 fraction of the cost.
 """
 
@@ -32,7 +32,7 @@ def _case(name: str, eps: float) -> physics.Scenario:
     if name == "oblate":
         return reference(eps, 1.4, 1.0, 0.15 / _slow_rate(1.4, eps))
     if name == "braking":
-        # MODELS A.7(a) braking: b ~ eps^3, lambda = b/2 (k* = 2), prolate, run to T
+        # docs/models.md A.7(a) braking: b ~ eps^3, lambda = b/2 (k* = 2), prolate, run to T
         b = 0.5 * eps**3
         T = np.log(1 + 0.5) / (b / 2)
         return reference(eps, 0.5, 0.3, 0.9 * T, extra={"control": {"b": b}, "medium": {"lambda": b / 2}})
@@ -64,4 +64,4 @@ def test_averaged_vs_full_is_second_order_in_eps(name):
     order = _order(errors)
     print(f"{name}: errors {errors}, order {order:.3f}")
     assert ORDER_RANGE[0] <= order <= ORDER_RANGE[1]
-    assert errors[0] < 5e-3  # and small in absolute terms (MODELS A.7(a): 7.9e-4 .. 4.4e-3 at eps = 0.1)
+    assert errors[0] < 5e-3  # and small in absolute terms (docs/models.md A.7(a): 7.9e-4 .. 4.4e-3 at eps = 0.1)

@@ -1,4 +1,4 @@
-"""The corrections of MODELS.md Part A section 6, with evidence.
+"""The corrections of docs/models.md Part A section 6, with evidence.
 
 For each misprint that touches an implemented formula, the corrected form (the product code in
 physics/systems/moving_mass/closed*.py) matches numerical integration of the averaged equations, and the
@@ -325,7 +325,7 @@ def test_000_item10_eq38_exponent_and_logarithm(name):
     t, T, _, sol = _brake_run(c)
     theta_num = nutation_of(sol.y, A, C)
     sigma = cf.braking_sigma_38(1.0, b, C, N)
-    # (the printed sigma agrees with the corrected (3.7), MODELS.md A.6 seed 000 item 9)
+    # (the printed sigma agrees with the corrected (3.7), docs/models.md A.6 seed 000 item 9)
     m_rho2_chi_d = N * A**4 / C**3  # N = m rho^2 chi C^3 d/(Omega^4 A^4), Omega = 1
     assert abs(sigma - 2.5 * b * C * A**4 / (m_rho2_chi_d * 1.0)) < 1e-12 * abs(sigma)
     first = (t / T <= 0.5) & (t > 0)  # where tau(theta) is well conditioned
@@ -440,7 +440,7 @@ def test_004_item4_eq16_square():
     assert np.max(log_error) > PRINTED_16_MARGIN
 
 
-PRINTED_17_MARGIN = 0.02  # rad; measured 1.38 (MODELS quotes 0.08-0.16 for its own cases)
+PRINTED_17_MARGIN = 0.02  # rad; measured 1.38 (docs/models.md quotes 0.08-0.16 for its own cases)
 
 
 def test_004_item5_eq17_secular_sign():
@@ -465,7 +465,7 @@ def test_004_item5_eq17_secular_sign():
     assert np.max(np.abs(printed - first_iterate)) > PRINTED_17_MARGIN
 
 
-PRINTED_24_MARGIN = 0.01  # rad; measured 0.116 at G0 = 1.5 (MODELS: 0.014-0.028 at G0 = 2, its cases)
+PRINTED_24_MARGIN = 0.01  # rad; measured 0.116 at G0 = 1.5 (docs/models.md: 0.014-0.028 at G0 = 2, its cases)
 
 
 def test_004_item7_eq24_powers_of_G0():
@@ -495,8 +495,8 @@ def test_004_item6_mu_can_be_negative():
 
 # ---- seed 004 section 5: the figures' case Gamma1 = Gamma2 = 1 ------------------------------------------
 
-SECTION5_FINAL = {0.1: 0.636, 0.5: 0.689, 0.8: 0.709, 1.0: 0.718, 2.0: 0.743}  # MODELS.md A.6 seed 004 item 8
-SECTION5_TOL = 1e-3  # rad: MODELS quotes three decimals
+SECTION5_FINAL = {0.1: 0.636, 0.5: 0.689, 0.8: 0.709, 1.0: 0.718, 2.0: 0.743}  # docs/models.md A.6 seed 004 item 8
+SECTION5_TOL = 1e-3  # rad: docs/models.md quotes three decimals
 
 
 def test_004_section5_final_theta_is_monotone_in_k_star():
@@ -512,7 +512,7 @@ def test_004_section5_final_theta_is_monotone_in_k_star():
     assert np.all(np.diff(dense) > 0)
 
 
-# MODELS.md says "for k* > 1"; in fact f = (1 + k*) e^{-tau} - k* <= 1 for every k* >= 0, so
+# the paper says "for k* > 1"; in fact f = (1 + k*) e^{-tau} - k* <= 1 for every k* >= 0, so
 # Gamma2 f^2 cos^2 <= Gamma1 and theta never increases for any k* when Gamma1 = Gamma2 = 1
 @pytest.mark.parametrize("k_star", [0.1, 0.5, 0.8, 1.5, 2.0, 5.0])
 def test_004_section5_theta_never_increases(k_star):

@@ -1,7 +1,7 @@
 """The data behind the reproduced figures (bench/figures.py) against what the papers claim about them.
 
 Where a paper's statement reproduces it is asserted; where it does not, the project's documented finding
-(MODELS.md A.6 seed 004 item 8, docs/figures.md) is asserted instead. Quick mode throughout.
+(docs/models.md A.6 seed 004 item 8, docs/figures.md) is asserted instead. Quick mode throughout.
 """
 
 from __future__ import annotations
@@ -16,11 +16,11 @@ from physics.systems.moving_mass import closed as cf
 from physics.systems.moving_mass.closed004 import braking_tau_24, nutation_curve_24
 
 ANGLE_TOL = 1e-9  # rad: closed form against its own numerical integration
-FULL_TOL = 0.02  # rad: full model against the averaged closed forms at eps ~ 0.1 (O(eps^2), MODELS A.7)
+FULL_TOL = 0.02  # rad: full model against the averaged closed forms at eps ~ 0.1 (O(eps^2), docs/models.md A.7)
 LIMIT_TOL = 0.02  # rad: the extreme sigma curves against the limit curves the text describes
 RESONANCE_TOL = 0.03  # relative: where the decay time is least, against omega_0 = omega_0,res
 LINEAR_TOL = 0.15  # relative: full-model decay time against linear theory
-AVERAGED_TOL = 0.0025  # of theta0: averaged vs full at eps = 1/4, 1 deg (MODELS B.6)
+AVERAGED_TOL = 0.0025  # of theta0: averaged vs full at eps = 1/4, 1 deg (docs/models.md B.6)
 MONOTONE_TOL = 1e-6  # rad: Fig. 4 curve 1 turns down by ~1e-8 at the very end, where -Gamma1 f^2 outlasts Gamma2 f^4
 
 # (3.8) at tau = 1 takes log1p(-1) = -inf on purpose: (1 - tau)^5 = 0 there
@@ -87,7 +87,7 @@ def test_004_fig1_theta_decreases_in_every_case(d004):
 
 def test_004_fig1_no_extremum_at_k_star_08(d004):
     """Text: "the greatest decrease of theta at k* = 0.8": does not reproduce. The final angle falls
-    monotonically as k* falls (MODELS A.6 seed 004 item 8: 0.636, 0.689, 0.709, 0.718, 0.743 at k* = 0.1,
+    monotonically as k* falls (docs/models.md A.6 seed 004 item 8: 0.636, 0.689, 0.709, 0.718, 0.743 at k* = 0.1,
     0.5, 0.8, 1, 2), so the greatest decrease is at the smallest k*."""
     ks, final = d004["k_star"], d004["final"]
     assert np.all(np.diff(final) > 0)
@@ -129,7 +129,7 @@ def test_004_fig4_mass_drives_theta_up_to_a_limit(d004):
 
 
 def test_004_physical_counterparts_oblate_down_prolate_up(d004_physical):
-    """Gamma1 Gamma2 < 0 always (MODELS A.4): oblate -> theta decreases monotonically, prolate -> increases."""
+    """Gamma1 Gamma2 < 0 always (docs/models.md A.4): oblate -> theta decreases monotonically, prolate -> increases."""
     for (_f, shape), panel in d004_physical.items():
         for e in panel:
             assert e["Gamma1"] * e["Gamma2"] < 0
@@ -183,7 +183,7 @@ def test_002_averaged_follows_the_full_decay():
     d = F.seed002_averaged_data(quick=True)
     small = d[0.25]
     assert np.max(np.abs(small["full"] - small["averaged"])) / small["full"][0] < AVERAGED_TOL
-    big = d[1.0]  # set R: damping not small, the averaged rate is 18 % slow (MODELS B.6), visible late
+    big = d[1.0]  # set R: damping not small, the averaged rate is 18 % slow (docs/models.md B.6), visible late
     assert np.max(np.abs(big["full"] - big["averaged"])) / big["full"][0] > AVERAGED_TOL
 
 

@@ -280,7 +280,7 @@ def resonance_gaps() -> dict[float, float]:
 
 
 def averaged_exponent() -> float:
-    """The averaged theory's slowest decay rate (MODELS B.6), 1/s, on set R as bench/figures.py builds it."""
+    """The averaged theory's slowest decay rate (docs/models.md B.6), 1/s, on set R as bench/figures.py builds it."""
     from physics.reference.problems import set_R
     from physics.systems.pendulum import averaged
 

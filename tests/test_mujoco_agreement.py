@@ -1,4 +1,4 @@
-"""The project's full model (MODELS.md A.2) against an independent engine: MuJoCo's multibody
+"""The project's full model (docs/models.md A.2) against an independent engine: MuJoCo's multibody
 model of the same carrier and point mass (physics/reference/mujoco_moving_mass.py, checked on its own in
 tests/test_mujoco_engine.py). MuJoCo's RK4 step is chosen so that halving it moves MuJoCo's own
 theta by less than MUJOCO_SELF_TOL; the finer of the two runs is the reference.
@@ -22,7 +22,7 @@ RATE_TOL = 1e-6  # rad/s, body angular velocity (carries the precession phase er
 ATTITUDE_TOL = 1e-6  # quaternion components
 
 CASES = {
-    # MODELS.md A.7 (a), eps = 0.1, mass released at rest at O1; the nutation grows
+    # docs/models.md A.7 (a), eps = 0.1, mass released at rest at O1; the nutation grows
     "prolate_rest": dict(
         A=1.0,
         B=1.0,

@@ -13,7 +13,7 @@ mujoco = pytest.importorskip("mujoco")
 
 from physics.reference import mujoco_moving_mass as mm  # noqa: E402
 
-# Prolate body of MODELS.md A.7 (a), eps = 0.1; one precession period is 2 pi A / G0 = 2 pi s.
+# Prolate body of docs/models.md A.7 (a), eps = 0.1; one precession period is 2 pi A / G0 = 2 pi s.
 A, B, C, M, m, rho, Omega, chi = 1.0, 1.0, 0.5, 1.0, 0.1, 1.5, 10.0, 10.0
 J = np.array([A, B, C])
 THETA0 = 0.3  # rad
@@ -64,7 +64,7 @@ def test_model_is_the_one_asked_for(model_data):
     np.testing.assert_allclose(model.dof_damping[6:], m * chi, rtol=1e-15)
     np.testing.assert_array_equal(model.dof_damping[:6], 0.0)
     np.testing.assert_array_equal(model.opt.gravity, 0.0)
-    # frozen system about its COM: Jb + carrier and mass offsets = J* (MODELS A.2)
+    # frozen system about its COM: Jb + carrier and mass offsets = J* (docs/models.md A.2)
     zc, d0 = model.body_pos[1][2], model.body_pos[2][2]
     frozen = Jb + ((M - m) * zc**2 + m * (zc + d0) ** 2) * np.array([1.0, 1.0, 0.0])
     np.testing.assert_allclose(frozen, [A, 0.8, C], rtol=1e-14)

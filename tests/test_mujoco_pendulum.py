@@ -1,4 +1,4 @@
-"""The project's full spherical-pendulum model (MODELS.md B.2) against an independent engine:
+"""The project's full spherical-pendulum model (docs/models.md B.2) against an independent engine:
 MuJoCo's multibody model of the same free carrier and Cardan-hung bob (physics/reference/mujoco_pendulum.py),
 with the carrier's translation explicit. MuJoCo's RK4 step is chosen so that halving it moves
 MuJoCo's own theta by less than MUJOCO_SELF_TOL; the finer of the two runs is the reference.
@@ -27,7 +27,7 @@ T_END = 40.0  # s: theta falls from 10 deg to about 0.2 deg on set R
 
 
 def test_mujoco_joint_composition_is_cardan():
-    """The bob's body frame is R_x(alpha) R_y(beta): the bob sits at pivot + l e (MODELS B.1)."""
+    """The bob's body frame is R_x(alpha) R_y(beta): the bob sits at pivot + l e (docs/models.md B.1)."""
     sc = set_R()
     s = pendulum_system(sc)
     b = s.bobs[0]
@@ -42,7 +42,7 @@ def test_mujoco_joint_composition_is_cardan():
 
 
 def test_full_model_agrees_with_mujoco_on_set_R():
-    """Set R (MODELS B.8), 10 deg nutation, resonant spring and pivot damper c_d = 8."""
+    """Set R (docs/models.md B.8), 10 deg nutation, resonant spring and pivot damper c_d = 8."""
     sc = set_R(10 * math.pi / 180, t_end=T_END, samples=int(T_END / 0.1) + 1)
     tr = physics.simulate(sc)
     s = pendulum_system(sc)

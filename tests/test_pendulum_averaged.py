@@ -1,4 +1,4 @@
-"""The averaged spherical-pendulum model (MODELS B.6) against the full model, its O(eps) accuracy, and the
+"""The averaged spherical-pendulum model (docs/models.md B.6) against the full model, its O(eps) accuracy, and the
 fidelity choice with the limits of B.10 (physics/systems/pendulum/averaged.py)."""
 
 from __future__ import annotations
@@ -18,12 +18,12 @@ from physics.systems.pendulum.geometry import pendulum_system
 
 deg = math.pi / 180
 EPS = [1.0, 1 / 2, 1 / 4, 1 / 8, 1 / 16, 1 / 32]
-B6_RATE_ERRORS = [0.178, 0.107, 0.057, 0.029, 0.015, 0.0074]  # MODELS B.6, relative, eps = 1 ... 1/32
+B6_RATE_ERRORS = [0.178, 0.107, 0.057, 0.029, 0.015, 0.0074]  # docs/models.md B.6, relative, eps = 1 ... 1/32
 ORDER_TOL = 0.1  # fitted convergence order against the expected one
 QUOTE_TOL = 0.02  # relative, our errors against the rounded numbers B.6 quotes
 ATTITUDE_TOL = 1e-8  # the Magnus attitude against a tight DOP853 integration of the same omega
 LIMIT_ERROR = 0.06  # largest relative rate error allowed inside all of B.10's limits
-# MODELS B.10's limits. Since issue 15 auto asks the error estimate instead (pendulum/accuracy.py, validity.py);
+# docs/models.md B.10's limits. Since issue 15 auto asks the error estimate instead (pendulum/accuracy.py, validity.py);
 # the tests below still check what these limits promise about the averaged model's rate
 COUPLING_MAX = 0.01  # mu D^2 / A
 COUPLING_RATE_MAX = 0.03  # g/|Omega|
@@ -34,7 +34,7 @@ NONLINEAR_MAX = 0.1  # theta0^2 |Omega| / g
 
 def scaled(eps: float, *, theta0: float = 1 * deg, t_end: float | None = None, samples: int = 4001,
            c_d: float | None = None, k="resonant", B: float | None = None) -> physics.Scenario:
-    """Set R with the coupling D (through h) and the damping c_d both scaled by eps (MODELS B.6's test)."""
+    """Set R with the coupling D (through h) and the damping c_d both scaled by eps (docs/models.md B.6's test)."""
     M0, m, l, W = 500.0, 5.0, 1.0, 2.0
     h = -l + 0.3 * eps
     A = 100.0 + m * (M0 + m) * (h + l) ** 2 / M0

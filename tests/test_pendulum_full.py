@@ -1,4 +1,4 @@
-"""The full pendulum-damper models (MODELS.md Part B.2): conservation, the energy balance, an
+"""The full pendulum-damper models (docs/models.md Part B.2): conservation, the energy balance, an
 independent Lagrangian formulation, the reference numbers of B.6 and B.7, the gimbal singularity
 and bad input."""
 
@@ -17,7 +17,7 @@ deg = math.pi / 180
 INVARIANT_TOL = 1e-9  # relative drift of the inertial H and of E
 BALANCE_TOL = 1e-9  # |E(0) - E(t) - W(t)| relative to E(0)
 RHS_TOL = 1e-10  # relative, kernel vs the independent Lagrangian
-RATE_TOL = 0.02  # relative, decay rates of MODELS B.6 and decay times of B.7
+RATE_TOL = 0.02  # relative, decay rates of docs/models.md B.6 and decay times of B.7
 ANGLE_TOL = 0.01 * deg  # the meridian pendulums' nutation angle at 400 s (B.7 quotes 9.30 deg)
 
 SPHERICAL = physics.get_model("spherical_pendulum", "full")
@@ -28,7 +28,7 @@ PLANE = physics.get_model("plane_pendulums", "full")
 
 def set_R(theta0: float = 10 * deg, *, c_d: float = 8.0, k="resonant", t_end: float = 60.0, samples: int = 1201,
           rtol: float = 1e-12, omega=None) -> physics.Scenario:
-    """MODELS B.8: carrier A = B = 100, C = 150, M = 500; bob m = 5, l = 1, pivot h = -0.7 from O;
+    """docs/models.md B.8: carrier A = B = 100, C = 150, M = 500; bob m = 5, l = 1, pivot h = -0.7 from O;
     W = 2. The scenario takes the frozen moments: A + mu D^2 (the bob at rest on the axis) and C."""
     M0, m, l, h, W = 500.0, 5.0, 1.0, -0.7, 2.0
     mu = m * M0 / (M0 + m)
@@ -49,7 +49,7 @@ def _shift(x: np.ndarray) -> np.ndarray:
 
 def taylor(preset: str = "in_plane", *, k: float = 0.0, R: float = 1.0, t_end: float = 60.0, samples: int = 1201,
            rtol: float = 1e-11) -> physics.Scenario:
-    """MODELS B.7: three plane pendulums at azimuths 0/120/240 deg, m = 2, l = 1, c = 2, hinge at
+    """docs/models.md B.7: three plane pendulums at azimuths 0/120/240 deg, m = 2, l = 1, c = 2, hinge at
     height z_p = 0.5 above the carrier COM G_B; flat carrier A = B = 100, C = 200, M = 500; W = 2 and
     phi(0) = 10 deg. The scenario measures z_p from the system COM O, which sits o = 6 z_p'/506 above
     G_B (z_p' the bobs' common height), and takes the frozen moments about O."""
@@ -258,7 +258,7 @@ def test_rhs_agrees_with_the_two_body_lagrangian(which):
         assert kernel.energy(y, p) == pytest.approx(E_ref, rel=1e-13)
 
 
-# ---- reference numbers of MODELS B.6 and B.7 ------------------------------------------------------
+# ---- reference numbers of docs/models.md B.6 and B.7 ------------------------------------------------------
 
 @pytest.mark.parametrize("theta0, rate", [(1 * deg, 0.1261), (10 * deg, 0.1116)])
 def test_set_R_nutation_decay_rate_matches_B6(theta0, rate):
@@ -269,7 +269,7 @@ def test_set_R_nutation_decay_rate_matches_B6(theta0, rate):
 @pytest.mark.parametrize("c_d, t_end, peak, tol", [(8.0, 80.0, 11.6, 0.05), (0.0, 400.0, 27.0, 0.5)],
                          ids=["resonant", "undamped"])
 def test_set_R_pendulum_swing_peaks_match_B10(c_d, t_end, peak, tol):
-    """MODELS B.10: at 10 deg on set R the swings peak at 11.6 deg (resonant) and 27 deg (undamped)."""
+    """docs/models.md B.10: at 10 deg on set R the swings peak at 11.6 deg (resonant) and 27 deg (undamped)."""
     tr = physics.simulate(set_R(10 * deg, c_d=c_d, t_end=t_end, samples=int(20 * t_end) + 1))
     cone = np.arccos(np.cos(tr.internal["alpha"]) * np.cos(tr.internal["beta"]))  # arm angle from e3
     assert np.max(cone) == pytest.approx(peak * deg, abs=tol * deg)

@@ -1,7 +1,7 @@
-"""Linear theory of the pendulum dampers (seed 002 (6), (7), (10), (11), (15), (16); MODELS B.3-B.5, B.7,
+"""Linear theory of the pendulum dampers (seed 002 (6), (7), (10), (11), (15), (16); docs/models.md B.3-B.5, B.7,
 B.9) against the FULL model: its finite-difference Jacobian about steady spin, and runs.
 
-Every correction of MODELS B.9 that physics/pendulum_*.py implements is checked here, with the
+Every correction of docs/models.md B.9 that physics/pendulum_*.py implements is checked here, with the
 paper's printed form shown to disagree with the full model by a stated margin.
 """
 
@@ -33,7 +33,7 @@ PLANE = physics.get_model("plane_pendulums", "full")
 def set_R(*, h: float = -0.7, k="resonant", c_d: float = 8.0, A: float = 100.0, B: float | None = None,
           C: float = 150.0, theta0: float = 10 * deg, t_end: float = 60.0, samples: int = 1201,
           fidelity: str = "full", rtol: float = 1e-11) -> physics.Scenario:
-    """MODELS B.8 (carrier moments A, B, C; M = 500; m = 5, l = 1; W = 2) in frozen-system values."""
+    """docs/models.md B.8 (carrier moments A, B, C; M = 500; m = 5, l = 1; W = 2) in frozen-system values."""
     M0, m, l, W = 500.0, 5.0, 1.0, 2.0
     muD2 = m * (M0 + m) * (h + l) ** 2 / M0
     Af, Bf = A + muD2, (A if B is None else B) + muD2

@@ -1,5 +1,5 @@
 """``pendulum.pivot`` (issue 17, "A fault that should not be one"): the spherical pendulum's spring and damper on
-the Cardan angles ("cardan", the paper's model, MODELS B.1) or on the arm's direction ("isotropic",
+the Cardan angles ("cardan", the paper's model, docs/models.md B.1) or on the arm's direction ("isotropic",
 V = k (1 - e.e3), R = c_d |e'|^2/2). The isotropic pivot goes on through the gimbal pole with a spring, where
 the Cardan one stops with a fault that names the key; at small amplitude the two agree to third order."""
 

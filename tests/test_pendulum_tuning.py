@@ -1,4 +1,4 @@
-"""Tuning the spherical-pendulum damper (seed 002 (14); MODELS B.5): "resonant", "optimal", the prolate
+"""Tuning the spherical-pendulum damper (seed 002 (14); docs/models.md B.5): "resonant", "optimal", the prolate
 refusal, and what tuning buys in the full model (decay times at 10 deg, growth on a prolate carrier)."""
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ SPEEDUP = 5.0  # the resonant damper is at least this much faster than a detuned
 
 def set_R(*, k="resonant", c_d: float = 8.0, A: float = 100.0, B: float | None = None, C: float = 150.0,
           h: float = -0.7, theta0: float = 10 * deg, t_end: float = 80.0, samples: int = 1601) -> physics.Scenario:
-    """MODELS B.8 (carrier moments A, B, C; M = 500; m = 5, l = 1; W = 2) in frozen-system values."""
+    """docs/models.md B.8 (carrier moments A, B, C; M = 500; m = 5, l = 1; W = 2) in frozen-system values."""
     muD2 = 5.0 * 505.0 * (h + 1.0) ** 2 / 500.0
     Af = A + muD2
     return physics.Scenario.from_dict({
@@ -36,7 +36,7 @@ def set_R(*, k="resonant", c_d: float = 8.0, A: float = 100.0, B: float | None =
 
 def decay_rate(t: np.ndarray, theta: np.ndarray, start: float = 0.8, stop: float = 0.01) -> float:
     """Least-squares slope of -log theta while theta falls from start*theta0 to stop*theta0 (or to the end
-    of the run), 1/s: the fit behind MODELS B.6's quoted rates."""
+    of the run), 1/s: the fit behind docs/models.md B.6's quoted rates."""
     below = np.cumsum(theta < stop * theta[0]) == 0
     sel = (theta <= start * theta[0]) & below
     return -float(np.polyfit(t[sel], np.log(theta[sel]), 1)[0])

@@ -101,7 +101,7 @@ def _closed_end(sc: physics.Scenario) -> float:
 @pytest.mark.parametrize("stem", [s for s in PRESETS if s.startswith("seed004")])
 def test_seed004_presets_lie_on_their_figure_curve(stem):
     """The preset's closed form ends where the figure's eq. (24) curve ends; oblate falls, prolate rises
-    (Gamma1 Gamma2 < 0, MODELS A.4)."""
+    (Gamma1 Gamma2 < 0, docs/models.md A.4)."""
     _, sc = PRESETS[stem]
     co = physics.coefficients(sc)
     assert co.Gamma1 * co.Gamma2 < 0
@@ -141,7 +141,7 @@ def test_seed000_presets_have_the_figures_sigma(stem, sigma):
 
 
 def test_seed002_presets_are_set_R():
-    """Set R (MODELS B.8): resonant spring omega_0 = 3 rad/s at W = 2, the detuned point 1.3 x, eps = 1/4."""
+    """Set R (docs/models.md B.8): resonant spring omega_0 = 3 rad/s at W = 2, the detuned point 1.3 x, eps = 1/4."""
     res = presets.load_preset(PRESETS["seed002_frequencies_set_R"][0])
     det = presets.load_preset(PRESETS["seed002_resonance_detuned"][0])
     assert res.pendulum.k == pytest.approx(F.MU_R * F.OMEGA0_RES**2, rel=1e-12)

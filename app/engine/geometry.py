@@ -1,6 +1,6 @@
 """What the 3-D scene shows, as plain numbers (no viser here, so it is testable headless).
 
-Conventions (MODELS.md): body axes e1, e2, e3 are principal, e3 the symmetry axis; quaternions are
+Conventions (docs/models.md): body axes e1, e2, e3 are principal, e3 the symmetry axis; quaternions are
 scalar first (w, x, y, z) and rotate body components into inertial ones, which is viser's ``wxyz``.
 Lengths are metres; the server scales the whole scene so the body is about 1.5 units across.
 """

@@ -2,7 +2,7 @@
 
 The mesh is taken as a uniform solid of the scenario's total mass M. It is moved to its centre of
 mass and turned to its principal axes; the axis whose moment stands most apart becomes e3 (the
-symmetry axis, MODELS conventions), and the scenario's A, B, C become the mesh's moments.
+symmetry axis, docs/models.md conventions), and the scenario's A, B, C become the mesh's moments.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """The attitude's kinematics, shared by every compiled right-hand side: q' = q (0, w) / 2.
 
 q is the unit quaternion (scalar first) taking body coordinates to inertial ones, w the body-frame angular
-velocity (MODELS.md conventions). Written once here so the kernels cannot disagree on a sign; the interpreted
+velocity (docs/models.md conventions). Written once here so the kernels cannot disagree on a sign; the interpreted
 twins (physics/kernels/interpreted.py) get the same source rebound, so they use it too.
 """
 

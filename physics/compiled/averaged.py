@@ -1,7 +1,7 @@
 """Compiled right-hand side of the averaged ("quasi-rigid") moving-mass model.
 
 Seed 004 eq. (1) with F, D, L, H, lambda and the control law (8), plus the quadratic-friction
-terms of seed 000 eq. (2.5) (B with C^4 A^-5, corrected per MODELS.md A.6 seed 000 item 4), all
+terms of seed 000 eq. (2.5) (B with C^4 A^-5, corrected per docs/models.md A.6 seed 000 item 4), all
 written as torques on the fictitious body J* w' + w x J* w = M.
 The cavity torque is written in its general form kc (Df(w) f(w) + w x f(w)), f(w) = -J*^-1(w x J* w),
 which for A = B is exactly (L p r^2, L q r^2, H (p^2 + q^2) r) of eq. (1).

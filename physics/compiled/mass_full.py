@@ -1,4 +1,4 @@
-"""Compiled right-hand side of the full moving-mass model, MODELS.md Part A section 2.
+"""Compiled right-hand side of the full moving-mass model, docs/models.md Part A section 2.
 
 State (15): w (3) body angular velocity; u (3) displacement of the mass from O1; v = u' (3);
 q (4) attitude quaternion, scalar first, body -> inertial; W_int (1) work dissipated inside
@@ -9,7 +9,7 @@ mass m_r, carrier COM -> O1 distance d0, spring c, damper delta, quadratic frict
 bound b, control law (0: G = K, 1: G = J* w), medium lambda, cavity coupling kc = beta P / nu.
 
 The cavity is its asymptotic Stokes torque: the fluid carries the relative momentum
-k_f = -kc f(w), where f(w) = -J*^-1 (w x J* w) is the torque-free Euler acceleration (MODELS A.3).
+k_f = -kc f(w), where f(w) = -J*^-1 (w x J* w) is the torque-free Euler acceleration (docs/models.md A.3).
 We put k_f into the total momentum and differentiate it along the *actual* motion, so the torque on
 the solid is -(k_f' + w x k_f) with k_f' = -kc Df(w) w'. To leading order this is exactly the
 L, H law of seed 004 eq. (1) (w' = f(w) + O(eps)), and it keeps the total K = K_mech + k_f exactly
@@ -52,7 +52,7 @@ def momentum(y, p):
 
 @njit(cache=True)
 def energy(y, p):
-    """Kinetic energy of carrier and mass plus spring energy, MODELS A.2 (J)."""
+    """Kinetic energy of carrier and mass plus spring energy, docs/models.md A.2 (J)."""
     w1, w2, w3 = y[0], y[1], y[2]
     d1, d2, d3 = y[3], y[4], p[7] + y[5]
     s1 = w2 * d3 - w3 * d2 + y[6]

@@ -3,7 +3,7 @@ in momentum variables, with the attitude advanced by an exact rotation.
 
 Why this method. In the variables z = (K, u, p_u) -- K the total angular momentum (body frame),
 u the displacement of the mass, p_u = m_r (u' + w x d) its conjugate momentum -- the model of
-MODELS.md A.2 without external torque is a Lie-Poisson system on so(3)* x T*R^3 with Hamiltonian
+docs/models.md A.2 without external torque is a Lie-Poisson system on so(3)* x T*R^3 with Hamiltonian
 
     H = 1/2 (K - d x p_u) . Jb^-1 (K - d x p_u) + |p_u|^2 / (2 m_r) + c |u|^2 / 2,   w = Jb^-1 (K - d x p_u),
 

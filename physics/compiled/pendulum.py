@@ -1,4 +1,4 @@
-"""Compiled right-hand sides of the full pendulum-damper models, MODELS.md Part B section 2.
+"""Compiled right-hand sides of the full pendulum-damper models, docs/models.md Part B section 2.
 
 A carrier of general inertia I_c (3x3 about its own COM G_B, symmetric positive definite, products
 of inertia allowed) carries N point bobs. No external loads, so the system COM O is fixed and the
@@ -26,7 +26,7 @@ Geometries (``kind`` = p[0]):
   at the pole: with k > 0 the run still stops there (``fault``), and a state in chart 1 (carried from a
   run with k = 0) is written in chart 0 before the first step (``switch_chart``, which the integrators
   call at the start too), so the spring acts on the gimbal angles wherever the bob is.
-  The pivot model (``pendulum.pivot``, p[o+PIVOT], o = HEADER): CARDAN (0) is the above, the paper's (MODELS
+  The pivot model (``pendulum.pivot``, p[o+PIVOT], o = HEADER): CARDAN (0) is the above, the paper's (docs/models.md
   B.1). ISOTROPIC (1) puts the spring and the damper on the arm's direction e (body frame) instead of on the
   angles: V = k (1 - e.e3), R = c |e'|^2/2. Both charts have e_z = cos a cos b, |de/da| = cos b, |de/db| = 1
   and de/da . de/db = 0, so in either chart Q_alpha = -k sin a cos b - c cos^2 b alpha',
@@ -105,7 +105,7 @@ def _geometry(y, p, R, Jq, Cq):
         a, b = y[3], y[4]
         ad, bd = y[5], y[6]
         sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
-        if y.size <= CHART or y[CHART] < 0.5:  # chart 0, the Cardan angles of MODELS B.2 (a state without
+        if y.size <= CHART or y[CHART] < 0.5:  # chart 0, the Cardan angles of docs/models.md B.2 (a state without
             # the chart value, 12 long as before issue 17, is read as chart 0 rather than read past its end)
             e = (sb, -sa * cb, ca * cb)
             ea = (0.0, -ca * cb, -sa * cb)
@@ -166,7 +166,7 @@ def _state_geometry(y, p):
 
 @njit(cache=True)
 def momentum(y, p):
-    """Angular momentum about the system COM O, body components (MODELS B.2 "Invariants"):
+    """Angular momentum about the system COM O, body components (docs/models.md B.2 "Invariants"):
     H = I_c w + sum m_i r_i x v_i - (sum m_i r_i) x (sum m_i v_i) / M."""
     nb, _ = _sizes(p)
     R, _, _, V = _state_geometry(y, p)
@@ -302,7 +302,7 @@ def _cholesky_solve(Mm, x):
 
 @njit(cache=True)
 def accelerations(y, p):
-    """X = [w'; q''] of MODELS B.2: the mass matrix and right side are assembled from
+    """X = [w'; q''] of docs/models.md B.2: the mass matrix and right side are assembled from
     P_i = [e_j x r_i | J_i] (so v_i = P_i [w; q']) and solved."""
     nb, nq = _sizes(p)
     n = 3 + nq

@@ -49,5 +49,5 @@ def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def nutation_angle(Kb: np.ndarray) -> np.ndarray:
-    """Angle between a body-frame vector (..., 3) and e3, rad: MODELS conventions' theta."""
+    """Angle between a body-frame vector (..., 3) and e3, rad: docs/models.md conventions' theta."""
     return np.arctan2(np.hypot(Kb[..., 0], Kb[..., 1]), Kb[..., 2])

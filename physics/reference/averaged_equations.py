@@ -1,6 +1,6 @@
 """The averaged equations of seeds 004 and 000 as plain numpy right-hand sides f(t, w, ...) for solve_ivp.
 
-Written out from the papers as corrected in MODELS.md (A.3, A.6), independently of the model code in
+Written out from the papers as corrected in docs/models.md (A.3, A.6), independently of the model code in
 physics/systems and physics/compiled, so that the closed forms and the averaged model can be checked against
 a numerical integration of their own equations. w = (w1, w2, w3) is the body angular velocity, rad/s.
 """
@@ -34,7 +34,7 @@ def rhs_25(t, w, A, C, Ac_of, B_of):
 
 def coefficients_26(A, C, F, Bq0):
     """(A_c(w), B(w)) of seed 000 eq. (2.6) as corrected, quadratic friction: A_c = F K^2/A, B = Bq0 |w_perp|
-    (MODELS.md A.3)."""
+    (docs/models.md A.3)."""
 
     def Ac_of(w):
         return F * (A * A * (w[0] * w[0] + w[1] * w[1]) + C * C * w[2] * w[2]) / A
@@ -47,7 +47,7 @@ def coefficients_26(A, C, F, Bq0):
 
 def rhs_32(t, w, A, C, F, N, b, e12=4, e3=3):
     """Seed 000 eq. (3.2) with the control u = -K/|K| and A_c = F K^2/A (F = 0 drops A_c, which only turns
-    (w1, w2) and does not enter theta). The exponents of w3 are those corrected in MODELS.md A.6 seed 000
+    (w1, w2) and does not enter theta). The exponents of w3 are those corrected in docs/models.md A.6 seed 000
     item 7 (4 and 3); a test passes the printed ones (2, 2) to show them wrong."""
     w1, w2, w3 = w
     wp2 = w1 * w1 + w2 * w2

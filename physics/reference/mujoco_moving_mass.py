@@ -1,4 +1,4 @@
-"""An independent MuJoCo model of MODELS.md Part A.2: a free rigid body carrying a point mass on an
+"""An independent MuJoCo model of docs/models.md Part A.2: a free rigid body carrying a point mass on an
 isotropic spring-damper. A reference, not product: it cross-checks the project's full model with another engine.
 
 Geometry (body frame = carrier frame, origin at the carrier COM, axes principal):
@@ -6,7 +6,7 @@ Geometry (body frame = carrier frame, origin at the carrier COM, axes principal)
 - the point mass: mass m, at O1 + u, where O1 = d0 = rho/(1-eta) e3 from the carrier COM, i.e.
   rho e3 from the system COM O; u is held by three slide joints along the carrier's x, y, z with
   stiffness c = m Omega^2 and joint-space damping delta = m chi. Joint damping is a force
-  -delta u' in the relative velocity, the Rayleigh function of MODELS.md A.2; its reaction acts on
+  -delta u' in the relative velocity, the Rayleigh function of docs/models.md A.2; its reaction acts on
   the carrier, so it cannot change the total angular momentum.
 
 Conventions checked in MuJoCo 4.0.0 (tests/test_mujoco_engine.py tests each one):
@@ -28,7 +28,7 @@ from .mujoco_common import POINT_INERTIA, fmt, momentum_and_nutation, options, s
 
 
 def carrier_inertia(A, B, C, M, m, rho):
-    """Jb, the carrier's central principal moments (kg m^2) from the frozen-system J* (MODELS A.2)."""
+    """Jb, the carrier's central principal moments (kg m^2) from the frozen-system J* (docs/models.md A.2)."""
     eta = m / M
     s = m * rho**2 / (1.0 - eta)
     return np.array([A - s, B - s, C])

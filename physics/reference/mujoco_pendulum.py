@@ -1,4 +1,4 @@
-"""An independent MuJoCo model of MODELS.md Part B.2 for the spherical pendulum: a free carrier
+"""An independent MuJoCo model of docs/models.md Part B.2 for the spherical pendulum: a free carrier
 carrying a point bob on a two-gimbal (Cardan) pivot. A reference, not product: it cross-checks the project's full
 model with another engine, which keeps the carrier's translation explicit (no reduced mass).
 
@@ -59,7 +59,7 @@ def build_model_xml(M0, I_c, m, l, k, c_d, pivot, dt=1e-3, integrator="RK4", poi
 
 
 def arm(alpha, beta):
-    """MODELS B.1: e = R_x(alpha) R_y(beta) e3."""
+    """docs/models.md B.1: e = R_x(alpha) R_y(beta) e3."""
     return np.array([math.sin(beta), -math.sin(alpha) * math.cos(beta), math.cos(alpha) * math.cos(beta)])
 
 

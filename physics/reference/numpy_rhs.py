@@ -2,7 +2,7 @@
 
 They are the "scipy with a numpy right-hand side" peer of the benchmark: 3-vectors in numpy
 arrays (with a small ``cross``: np.cross is slow on 3-vectors), one Python call per evaluation.
-MODELS.md A.2, state as physics/compiled/mass_full.py (w, u, v, q, W_int, W_ext), no cavity,
+docs/models.md A.2, state as physics/compiled/mass_full.py (w, u, v, q, W_int, W_ext), no cavity,
 medium or control.
 """
 
@@ -42,10 +42,10 @@ def moving_mass_rhs(p: np.ndarray):
 
 
 def spherical_pendulum_rhs(p: np.ndarray):
-    """f(t, y) of the full spherical-pendulum damper (MODELS.md B.2, one bob, Cardan angles) for solve_ivp;
+    """f(t, y) of the full spherical-pendulum damper (docs/models.md B.2, one bob, Cardan angles) for solve_ivp;
     p and the state (w, alpha, beta, alpha', beta', q, W_diss, chart) as physics/compiled/pendulum.py, in
     chart 0 (the Cardan angles; the kernel's chart 1 near their pole is not written out here). p[19], the pivot
-    model: 0 the spring and damper on the angles (MODELS B.1), 1 on the arm's direction e, V = k (1 - e_z),
+    model: 0 the spring and damper on the angles (docs/models.md B.1), 1 on the arm's direction e, V = k (1 - e_z),
     R = c |e'|^2/2 (``pendulum.pivot = "isotropic"``).
 
     Written as a user would: the mass matrix and the right side of the Lagrange equations assembled

@@ -4,12 +4,12 @@ P1  free rigid body, I = (2, 1, 2/3), omega0 = (cos 1.1, 0, sin 1.1), T = 100 (H
     test body). This inertia breaks the triangle inequality (2 > 1 + 2/3), so physics.Scenario
     rejects it as unphysical; P1 drives the compiled full-model kernel directly with no mass.
     Exact solution: ``rigid_body_exact`` (Jacobi elliptic functions).
-P2  full moving-mass model, prolate, eps = 0.1, MODELS A.7(a) (tests/conftest.reference(0.1, 0.5,
+P2  full moving-mass model, prolate, eps = 0.1, docs/models.md A.7(a) (tests/conftest.reference(0.1, 0.5,
     0.3, 13333.3)), about 4000 revolutions, mass on its slow manifold; reference: compiled DOP853 at
     rtol 1e-13.
 P3  braking with a cavity and a medium on the averaged model: |G|(t) and the braking time T are
     exact (physics.systems.moving_mass.closed004, seed 004 eq. (10)).
-P4  resonant spherical-pendulum damper, set R of MODELS B.8, 10 deg nutation, 40 s; reference:
+P4  resonant spherical-pendulum damper, set R of docs/models.md B.8, 10 deg nutation, 40 s; reference:
     compiled DOP853 at rtol 1e-13.
 """
 
@@ -84,14 +84,14 @@ def rigid_body_period(I=P1_INERTIA, w0=P1_OMEGA0) -> float:
 
 # ---- P2 ---------------------------------------------------------------------------------------
 
-P2_T = 13333.3  # s, MODELS A.7(a) horizon at eps = 0.1 (about 4000 revolutions)
+P2_T = 13333.3  # s, docs/models.md A.7(a) horizon at eps = 0.1 (about 4000 revolutions)
 P2_SAMPLES = 401
 
 
 def moving_mass(eps: float, C: float = 0.5, theta0: float = 0.3, t_end: float = P2_T, *,
                 samples: int = P2_SAMPLES, rtol: float = 1e-11, chi: float | None = None,
                 mass_state: str = "quasistatic", extra: dict | None = None) -> physics.Scenario:
-    """MODELS A.7(a): A = 1, m = 0.1, m/M = 0.1, rho = 1.5, Omega = 1/eps, chi = Omega, G0 = 1
+    """docs/models.md A.7(a): A = 1, m = 0.1, m/M = 0.1, rho = 1.5, Omega = 1/eps, chi = Omega, G0 = 1
     (the same builder as tests/conftest.reference)."""
     Om = 1.0 / eps
     data = {
@@ -137,7 +137,7 @@ P4_T = 40.0
 
 def set_R(theta0: float = math.pi / 180, *, k: float | str = "resonant", c_d: float = 8.0, t_end: float = 60.0,
           samples: int = 1201, h: float = -0.7, A_carrier: float = 100.0, rtol: float = 1e-11) -> physics.Scenario:
-    """MODELS B.8's reference set R (carrier A = B = 100, C = 150, M0 = 500; bob m = 5, l = 1, pivot h = -0.7;
+    """docs/models.md B.8's reference set R (carrier A = B = 100, C = 150, M0 = 500; bob m = 5, l = 1, pivot h = -0.7;
     W = 2), in frozen-system moments, started at nutation theta0 (rad) with the pendulum at rest; full model.
     The seed 002 figures (bench/figures.py) vary its spring, damper, pivot and carrier."""
     M0, m, l, W, C = 500.0, 5.0, 1.0, 2.0, 150.0

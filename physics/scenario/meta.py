@@ -15,18 +15,20 @@ BASE_FOLDERS = (BODY_FOLDER, INITIAL_FOLDER)
 
 BASE_PARAMS: tuple[Param, ...] = (
     Param("body.A", "A", "kg m^2", "equatorial principal moment of the frozen system (carrier + parts at rest)", 0.1,
-          5.0, 0.01, "MODELS.md A.1: J* = diag(A, B, C), frozen system", BODY_FOLDER),
+          5.0, 0.01, "docs/models.md A.1: J* = diag(A, B, C), frozen system", BODY_FOLDER),
     Param("body.B", "B", "kg m^2", "second equatorial moment; B = A is a symmetric body", 0.1, 5.0, 0.01,
-          "MODELS.md A.1: J* = diag(A, B, C), frozen system", BODY_FOLDER),
+          "docs/models.md A.1: J* = diag(A, B, C), frozen system", BODY_FOLDER),
     Param("body.C", "C", "kg m^2", "axial moment; C > A oblate (settles to spin), C < A prolate (flat spin)", 0.1,
-          5.0, 0.01, "MODELS.md A.1: J* = diag(A, B, C), frozen system", BODY_FOLDER),
-    Param("body.M", "M", "kg", "total mass of the system", 0.1, 20.0, 0.1, "MODELS.md A.1: M = M0 + m", BODY_FOLDER),
+          5.0, 0.01, "docs/models.md A.1: J* = diag(A, B, C), frozen system", BODY_FOLDER),
+    Param("body.M", "M", "kg", "total mass of the system", 0.1, 20.0, 0.1, "docs/models.md A.1: M = M0 + m",
+          BODY_FOLDER),
     # the start: a change means something only from t = 0
     Param("initial.G0", "G0", "kg m^2/s", "initial angular momentum of the body frozen with its parts at rest, "
           "|J* w0| (the readout |K| adds what the moving parts carry); it defines the start, so changing it "
-          "restarts the run from t = 0", 0.1, 10.0, 0.01, "MODELS.md A.1: G = |J* w|", INITIAL_FOLDER, restarts=True),
+          "restarts the run from t = 0", 0.1, 10.0, 0.01, "docs/models.md A.1: G = |J* w|", INITIAL_FOLDER,
+          restarts=True),
     Param("initial.theta0", "theta0", "rad", "initial nutation angle between K and e3; it defines the start, "
-          "so changing it restarts from t = 0", 0.0, 3.14, 0.01, "MODELS.md A.1: C r = G cos(theta)",
+          "so changing it restarts from t = 0", 0.0, 3.14, 0.01, "docs/models.md A.1: C r = G cos(theta)",
           INITIAL_FOLDER, restarts=True),
 )
 

@@ -1,6 +1,6 @@
 """Parameter sets of a scenario: frozen dataclasses in SI units, validated on construction.
 
-Names follow seed 004 and ../shared/MODELS.md Part A section 1 (``rho``, ``Omega``, ``chi``,
+Names follow seed 004 and docs/models.md Part A section 1 (``rho``, ``Omega``, ``chi``,
 ``lambda_``...). Each class validates itself in ``__post_init__`` and raises ScenarioError naming
 the TOML key (``table.key``), so the same message reaches a scenario file, the CLI and the API.
 """
@@ -53,7 +53,7 @@ def _choice(key: str, value: object, allowed: tuple[str, ...]) -> str:
 @dataclass(frozen=True)
 class Body:
     """Principal central moments of the frozen system (carrier + masses at rest), kg m^2, and
-    the total mass M, kg (MODELS.md conventions). ``B`` defaults to ``A`` (symmetric body)."""
+    the total mass M, kg (docs/models.md conventions). ``B`` defaults to ``A`` (symmetric body)."""
 
     A: float
     C: float
@@ -88,7 +88,7 @@ class Body:
 @dataclass(frozen=True)
 class Initial:
     """Initial rotation: either ``omega`` (rad/s, body frame) or ``G0`` = |J* w| (kg m^2/s) with
-    the nutation angle ``theta0`` (rad), the angle between G and e3 (MODELS conventions).
+    the nutation angle ``theta0`` (rad), the angle between G and e3 (docs/models.md conventions).
     ``mass_state`` (None when not given) is the moving mass's start, validated and read by that system
     (physics/systems/moving_mass/params.py); a key of this shared table that a system owns
     (``System.initial_keys``) is refused by the others."""

@@ -1,1 +1,1 @@
-"""The moving mass of seeds 004 and 000 with its cavity, medium and braking torque (MODELS.md Part A)."""
+"""The moving mass of seeds 004 and 000 with its cavity, medium and braking torque (docs/models.md Part A)."""

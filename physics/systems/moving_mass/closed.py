@@ -1,4 +1,4 @@
-"""The closed forms of MODELS.md Part A (seeds 000 and 004), corrected as listed in MODELS.md A.6.
+"""The closed forms of docs/models.md Part A (seeds 000 and 004), corrected as listed in docs/models.md A.6.
 
 The formulas live in ``closed004`` (seed 004: braking time, G(t), the integrals I_n, the nutation angle of
 eqs. (13), (24) and its exact and linearised forms, the equatorial part (18)-(23)) and ``closed000``

@@ -3,8 +3,8 @@
 torque of bounded magnitude b.
 
 Plain floats and numpy arrays of times in, arrays out; SI units, angles in rad. Seed 000 writes K, I, I*
-for what MODELS.md calls G (here K), A, C; N = D/A and A_c = F K^2/A (MODELS.md A.3). All formulas are
-the corrected ones of MODELS.md A.6 (seed 000 items 3-5, 7-11).
+for what docs/models.md calls G (here K), A, C; N = D/A and A_c = F K^2/A (docs/models.md A.3). All formulas are
+the corrected ones of docs/models.md A.6 (seed 000 items 3-5, 7-11).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from physics.systems.moving_mass.closed004 import (
 
 
 def quadratic_friction_coefficients(A: float, C: float, F: float, Bq0: float, K: float) -> tuple[float, float]:
-    """(beta, gamma), both 1/s, of seed 000 eq. (2.10), corrected (MODELS.md A.6 seed 000 item 5):
+    """(beta, gamma), both 1/s, of seed 000 eq. (2.10), corrected (docs/models.md A.6 seed 000 item 5):
     beta = -(d + A_c) K/C and gamma = Bq0 K^7/(A C^6) = m rho^3 Lambda d|d| K^7/(Omega^3 A^6 C^2),
     with d = 1 - C/A, A_c = F K^2/A (eq. (2.6), item 4) and Bq0 = B/w_perp.
     """
@@ -122,7 +122,7 @@ def axial_rate_35(w3, K, b: float, C: float, N: float):
 def r_squared_rate_36(R, K, C: float, N: float):
     """(R^2)' with R = w3/K, (kg m^2)^-2 s^-1: seed 000 eq. (3.6), -2 N K^4 R^4 (C^-2 - R^2).
 
-    The printed left side R'' is (R^2)' (MODELS.md A.6 seed 000 item 8).
+    The printed left side R'' is (R^2)' (docs/models.md A.6 seed 000 item 8).
     """
     R, K = np.asarray(R, float), np.asarray(K, float)
     return -2.0 * N * K**4 * R**4 * (C**-2 - R * R)
@@ -136,7 +136,7 @@ def nutation_invariant_37(theta, theta0: float):
 
 
 def nutation_angle_37(t, theta0: float, K0: float, b: float, C: float, N: float) -> np.ndarray:
-    """theta(t), rad, shape of t: seed 000 eq. (3.7) corrected (MODELS.md A.6 seed 000 item 9),
+    """theta(t), rad, shape of t: seed 000 eq. (3.7) corrected (docs/models.md A.6 seed 000 item 9),
     sec^2 theta - sec^2 theta0 + ln(tan^2 theta / tan^2 theta0) = +(2N/C^4) int_0^t K^4,
     inverted for theta; here b is constant so K = K0 - b t (for a varying b only int K^4 changes).
 
@@ -159,7 +159,7 @@ def braking_sigma_38(K0: float, b: float, C: float, N: float) -> float:
 
 
 def braking_nutation_38(tau, theta0: float, sigma: float) -> np.ndarray:
-    """theta(tau), rad, shape of tau: seed 000 eq. (3.8) corrected (MODELS.md A.6 seed 000 item 10) and
+    """theta(tau), rad, shape of tau: seed 000 eq. (3.8) corrected (docs/models.md A.6 seed 000 item 10) and
     solved for theta, tau = t/T* in [0, 1]:
     tan^2 theta - tan^2 theta0 + ln(tan^2 theta/tan^2 theta0) = (1 - (1 - tau)^5)/sigma.
 
@@ -179,7 +179,7 @@ def braking_nutation_38(tau, theta0: float, sigma: float) -> np.ndarray:
 
 def braking_tau_38(theta, theta0: float, sigma: float):
     """tau = t/T* at which the nutation angle is theta: seed 000 eq. (3.8) corrected (exponent 1/5, logarithm
-    of tan^2 theta0/tan^2 theta; MODELS.md A.6 seed 000 item 10),
+    of tan^2 theta0/tan^2 theta; docs/models.md A.6 seed 000 item 10),
     tau = 1 - [1 + sigma(tan^2 theta0 - tan^2 theta + ln(tan^2 theta0/tan^2 theta))]^(1/5).
 
     nan where theta is not reached before the stop (negative bracket).
@@ -192,7 +192,7 @@ def braking_tau_38(theta, theta0: float, sigma: float):
 
 def braking_omega_39(t, w0, b: float, A: float, C: float, F: float, N: float) -> np.ndarray:
     """w(t), rad/s, shape (len(t), 3), body frame, from the initial w0 = (w10, w20, w30): seed 000 eq. (3.9)
-    in its general form (MODELS.md A.6 seed 000 item 11),
+    in its general form (docs/models.md A.6 seed 000 item 11),
     w1 + i w2 = (w10 + i w20)(K/K0) e^{alpha} e^{-i psi},  alpha = N int w3^4,  psi = int (d + A_c) w3,
     with w3 = K cos(theta)/C, theta from (3.8), K from (3.4), A_c = F K^2/A.
 

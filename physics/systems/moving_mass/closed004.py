@@ -1,12 +1,12 @@
 """Closed forms of seed 004 (Zinkevich, Kozachenko, Rachinskaya & Leshchenko): optimal braking of a
 symmetric body carrying a viscoelastic point mass and a viscous-fluid cavity in a resisting medium.
 
-All functions take plain floats (the coefficients of MODELS.md A.3, seed 004 eq. (4)) and numpy arrays
+All functions take plain floats (the coefficients of docs/models.md A.3, seed 004 eq. (4)) and numpy arrays
 of times, and return arrays of the same length as ``t``. Units: SI; times in s, angles in rad, moments
 of inertia in kg m^2, angular momenta in kg m^2/s. Times must be >= 0; times after the braking time T
 give the values at T (the body is at rest and nothing moves any more).
 
-Notation (MODELS.md A.1, A.4): G = |J* w| with J* = diag(A, A, C); theta is the angle between G and e3;
+Notation (docs/models.md A.1, A.4): G = |J* w| with J* = diag(A, A, C); theta is the angle between G and e3;
 E = lam G0 + b; I_n(t) = int_0^t G^n ds. The small private solvers at the end are shared with
 ``closed000``.
 """
@@ -41,7 +41,7 @@ def _times(t) -> np.ndarray:
 def braking_time(G0: float, b: float, lam: float) -> float:
     """Time-optimal braking time T, s: seed 004 eq. (10), T = (1/lam) ln(1 + G0 lam / b).
 
-    Evaluated as (G0/b) log1p(x)/x with x = G0 lam / b (MODELS.md A.4) so that lam -> 0 tends smoothly
+    Evaluated as (G0/b) log1p(x)/x with x = G0 lam / b (docs/models.md A.4) so that lam -> 0 tends smoothly
     to T = G0/b, seed 000 eq. (3.4); a series is used for |x| < 1e-8, where log1p(x)/x loses digits to
     the division. b = 0 (no control) gives inf.
     """
@@ -81,7 +81,7 @@ def _momentum_scalar(s: float, G0: float, b: float, lam: float) -> float:
 def momentum_power_integral(t, G0: float, b: float, lam: float, n: int) -> np.ndarray:
     """I_n(t) = int_0^t G(s)^n ds, units (kg m^2/s)^n s, for integer 1 <= n <= 6; shape of t.
 
-    Closed forms of MODELS.md A.4 (I2, I4; the general n comes from the binomial expansion of
+    Closed forms of docs/models.md A.4 (I2, I4; the general n comes from the binomial expansion of
     G = (E e^{-lam s} - b)/lam). These cancel catastrophically when lam t is small, so there:
     - lam = 0: I_n = (G0^{n+1} - G^{n+1}) / ((n+1) b), evaluated as t sum_j G0^{n-j} G^j / (n+1),
       a sum of positive terms (also covers b = 0);
@@ -132,7 +132,7 @@ def nutation_rate_13(theta, G, A: float, C: float, H: float, D: float):
     """d theta/dt, rad/s: right side of seed 004 eq. (13),
     (G^2 sin cos /(A C)) [-H/A + D G^2 cos^2(theta)/C^3].
 
-    The braces contain cos^2(theta), not the printed cos(theta) (MODELS.md A.6 seed 004 item 1). theta
+    The braces contain cos^2(theta), not the printed cos(theta) (docs/models.md A.6 seed 004 item 1). theta
     and G broadcast together.
     """
     theta, G = np.asarray(theta, float), np.asarray(G, float)
@@ -191,7 +191,7 @@ def _along_13(t, theta0, G0, b, lam, A, C, H, D, rates: Sequence[Callable] = (),
 
 def nutation_angle_13(t, theta0: float, G0: float, b: float, lam: float, A: float, C: float, H: float, D: float,
                       rtol: float = 1e-12) -> np.ndarray:
-    """theta(t), rad, shape of t: seed 004 eq. (13) (corrected cos^2, MODELS.md A.6 seed 004 item 1)
+    """theta(t), rad, shape of t: seed 004 eq. (13) (corrected cos^2, docs/models.md A.6 seed 004 item 1)
     with G(t) from eq. (10), control b constant.
 
     H == 0 or D == 0 use the exact forms (nutation_angle_H0 / nutation_angle_D0); otherwise the scalar
@@ -212,7 +212,7 @@ def nutation_angle_24(tau, theta0: float, Gamma1: float, Gamma2: float, k_star: 
     d theta/d tau = -Gamma1 sin cos f^2 + Gamma2 sin cos^3 f^4,  f = (1 + k*) e^{-tau} - k*.
 
     Gamma1 = H G0^2/(lam A^2 C) and Gamma2 = D G0^4/(lam A C^4) carry the powers of G0 that the print
-    lacks (MODELS.md A.6 seed 004 item 7); k* = b/(lam G0). The body stops at tau_T = ln(1 + 1/k*)
+    lacks (docs/models.md A.6 seed 004 item 7); k* = b/(lam G0). The body stops at tau_T = ln(1 + 1/k*)
     (inf for k* = 0), after which theta stays at theta(tau_T). Solved as eq. (13) with G0 = lam = A = C = 1,
     b = k*, H = Gamma1, D = Gamma2, which is the same equation.
     """
@@ -242,7 +242,7 @@ def nutation_curve_24(theta0: float, Gamma1: float, Gamma2: float, k_star: float
 
 
 def nutation_angle_H0(t, theta0: float, G0: float, b: float, lam: float, A: float, C: float, D: float) -> np.ndarray:
-    """theta(t), rad, for H = 0 (point mass only, no cavity), exact (MODELS.md A.4):
+    """theta(t), rad, for H = 0 (point mass only, no cavity), exact (docs/models.md A.4):
     ln tan theta + tan^2 theta / 2 = [same at theta0] + (D/(A C^4)) I4(t).
 
     Inverted with a bracketed Newton solve of y + e^y = x in y = ln tan^2 theta. theta0 in (0, pi/2); the
@@ -259,7 +259,7 @@ def nutation_angle_H0(t, theta0: float, G0: float, b: float, lam: float, A: floa
 
 
 def nutation_angle_D0(t, theta0: float, G0: float, b: float, lam: float, A: float, C: float, H: float) -> np.ndarray:
-    """theta(t), rad, for D = 0 (cavity only, or a mass without damper), exact (MODELS.md A.4):
+    """theta(t), rad, for D = 0 (cavity only, or a mass without damper), exact (docs/models.md A.4):
     tan theta = tan theta0 exp(-(H/(A^2 C)) I2(t)).
     """
     k = -(H / (A * A * C)) * momentum_power_integral(t, G0, b, lam, 2)
@@ -272,7 +272,7 @@ def nutation_angle_D0(t, theta0: float, G0: float, b: float, lam: float, A: floa
 def nutation_exponent_15(t, G0: float, b: float, lam: float, A: float, C: float, H: float, D: float) -> np.ndarray:
     """K(t) of seed 004 eq. (15), dimensionless: K = (A C)^-1 [-(H/A) I2 + (D/C^3) I4].
 
-    This is the printed bracket with the factor lam^-2 on every D term (MODELS.md A.6 seed 004 item 2),
+    This is the printed bracket with the factor lam^-2 on every D term (docs/models.md A.6 seed 004 item 2),
     regrouped through I2, I4 so it stays exact as lam -> 0.
     """
     I2 = momentum_power_integral(t, G0, b, lam, 2)
@@ -285,7 +285,7 @@ def nutation_linear_15(t, dtheta0: float, G0: float, b: float, lam: float, A: fl
     """delta theta(t), rad, near theta = 0: seed 004 eq. (15), |dtheta| = |dtheta0| e^{K(t)}.
 
     Returns dtheta0 e^{K(t)} (the sign of dtheta0 is kept: the linear equation (14) cannot change it);
-    K from nutation_exponent_15 (corrected, MODELS.md A.6 seed 004 item 2).
+    K from nutation_exponent_15 (corrected, docs/models.md A.6 seed 004 item 2).
     """
     return dtheta0 * np.exp(nutation_exponent_15(t, G0, b, lam, A, C, H, D))
 
@@ -295,7 +295,7 @@ def nutation_linear_16(t, dtheta0: float, G0: float, b: float, lam: float, A: fl
     """delta theta(t), rad, near theta = pi/2 (theta = pi/2 + delta theta): seed 004 eq. (16) integrated,
     delta theta = delta theta0 exp((H/(A^2 C)) I2(t)).
 
-    The printed integral has (G0 lam + b) in its first term where (G0 lam + b)^2 belongs (MODELS.md A.6
+    The printed integral has (G0 lam + b) in its first term where (G0 lam + b)^2 belongs (docs/models.md A.6
     seed 004 item 4); I2 is the exact integral. The mass does not enter, as the paper notes.
     """
     return dtheta0 * np.exp((H / (A * A * C)) * momentum_power_integral(t, G0, b, lam, 2))
@@ -307,7 +307,7 @@ def nutation_first_iterate_17(t, theta0: float, G0: float, b: float, lam: float,
     S = sin theta0 cos theta0 (A C)^-1 [-(H/A) I2 + (D cos^2 theta0 / C^3) I4].
 
     Equal to the printed bracket with the sign of its secular term flipped to
-    +lam(-H/A + b^2 D cos^2(theta0)/(C^3 lam^2)) b^2 t (MODELS.md A.6 seed 004 item 5). It approximates
+    +lam(-H/A + b^2 D cos^2(theta0)/(C^3 lam^2)) b^2 t (docs/models.md A.6 seed 004 item 5). It approximates
     theta to O(S^2).
     """
     I2 = momentum_power_integral(t, G0, b, lam, 2)
@@ -321,7 +321,7 @@ def nutation_first_iterate_17(t, theta0: float, G0: float, b: float, lam: float,
 def equatorial_decay_rate(theta, G, b: float, lam: float, A: float, C: float, L: float, D: float):
     """mu, 1/s, of seed 004 eq. (18): mu = b/G + lam - r^2 (D r^2 + L)/A with r = G cos(theta)/C.
 
-    Not always positive, contrary to the text after (18): a passive prolate body has mu < 0 (MODELS.md A.6
+    Not always positive, contrary to the text after (18): a passive prolate body has mu < 0 (docs/models.md A.6
     seed 004 item 6). Singular at G = 0 when b > 0.
     """
     theta, G = np.asarray(theta, float), np.asarray(G, float)
@@ -378,7 +378,7 @@ def equatorial_direction(t, n0, theta0: float, G0: float, b: float, lam: float, 
     """n(t) = Pi(sigma(t)) n0, shape (len(t), 2): the unit direction of (p, q), seed 004 eqs. (22)-(23).
 
     n0 is the initial direction (normalised here). The text's "d(t) defined in (18)" is mu(t) and its
-    "equation (20)" is (22) (MODELS.md A.6 seed 004 item 6).
+    "equation (20)" is (22) (docs/models.md A.6 seed 004 item 6).
     """
     n0 = np.asarray(n0, float)
     n0 = n0 / np.linalg.norm(n0)

@@ -52,13 +52,13 @@ def closed_form_state(t, coeffs) -> dict:
     the torque-free rate plus the phase rate that keeps the body-frame direction of G equal to that of
     J* omega. By construction R(quat) J* omega = G (sin th0, 0, cos th0) to rounding.
     Precession rate: phi_p' = G/A - F G^3 cos^2(theta)/(A C), not the rigid-body G/A. The mass's
-    conservative angular momentum k (MODELS.md A.3) makes the conserved vector K = J* w + k, and e3 turns
+    conservative angular momentum k (docs/models.md A.3) makes the conserved vector K = J* w + k, and e3 turns
     about K at |w_perp| |K|/|K_perp|, which is this rate to first order in F. With G/A alone the attitude of
     the averaged equations (1) drifts away secularly (0.84 rad after 100 s at F G^2/C = 0.036); with the
     correction the difference stays at the size of the wobble of G below.
     Approximation: in the averaged equations G is not exactly fixed in space. The internal torques (F, D,
     L, H terms) are normal to G and turn with the body, so G wobbles about a fixed mean by an angle of the
-    order of F G^2/C and of |theta'| A/G, both O(eps^2) or smaller (MODELS.md A.5); the Euler-angle rates of
+    order of F G^2/C and of |theta'| A/G, both O(eps^2) or smaller (docs/models.md A.5); the Euler-angle rates of
     this attitude differ from omega by the same orders (their theta' terms, and F terms on the axis). With
     no internal torque (only medium and control, which are parallel to G) the attitude is exact.
     """

@@ -1,6 +1,6 @@
 """Derived quantities of a scenario: the papers' coefficients and the validity numbers.
 
-F, D, L, H, P: seed 004 eq. (4); Gamma1, Gamma2, k*: eq. (24) as corrected in MODELS.md A.6
+F, D, L, H, P: seed 004 eq. (4); Gamma1, Gamma2, k*: eq. (24) as corrected in docs/models.md A.6
 (seed 004 item 7); T: eq. (10)-(11); A_c, N, B, Lambda, gamma, sigma: seed 000 (2.6), (2.10),
 (3.2), (3.8) as corrected. For an asymmetric body (A != B) the averaged theory does not apply;
 the perturbation coefficients then use the mean equatorial moment (A + B)/2 and the validity

@@ -1,4 +1,4 @@
-"""The moving-mass system (MODELS.md Part A) at the full and averaged fidelities.
+"""The moving-mass system (docs/models.md Part A) at the full and averaged fidelities.
 
 Both integrate the attitude with the rest, so a scene can draw the body in the inertial frame, and
 start from the same body angular velocity w0 (from ``omega`` or from G0 = |J* w0| and theta0).
@@ -51,7 +51,7 @@ def pack_full(sc: Scenario) -> np.ndarray:
 
 
 def quasi_static_displacement(sc: Scenario, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Forced (slow-manifold) displacement u and velocity u' of the mass, MODELS A.3:
+    """Forced (slow-manifold) displacement u and velocity u' of the mass, docs/models.md A.3:
     u = -a/Omega^2 + chi a'/Omega^4 + lam_q |a'| a'/Omega^6, u' = -a'/Omega^2, with
     a = w x (w x r) + w' x r evaluated along torque-free motion of the frozen body."""
     ms = sc.mass
@@ -96,7 +96,7 @@ def invariants_full(Y, p):
 
 FULL = register(Model(
     name="moving_mass/full", system="moving_mass", fidelity="full",
-    summary="carrier + point mass on a spring-damper, reduced-mass multibody equations (MODELS A.2)",
+    summary="carrier + point mass on a spring-damper, reduced-mass multibody equations (docs/models.md A.2)",
     state=("wx", "wy", "wz", "ux", "uy", "uz", "vx", "vy", "vz", "qw", "qx", "qy", "qz", "W_int", "W_ext"),
     kernel=kernels.MASS_FULL, pack=pack_full, initial_state=initial_full, observe=observe_full,
     invariants=invariants_full,
@@ -131,7 +131,7 @@ def invariants_averaged(Y, p):
 
 AVERAGED = register(Model(
     name="moving_mass/averaged", system="moving_mass", fidelity="averaged",
-    summary="quasi-rigid body: seed 004 eq. (1) with seed 000 (2.5) friction terms (MODELS A.3)",
+    summary="quasi-rigid body: seed 004 eq. (1) with seed 000 (2.5) friction terms (docs/models.md A.3)",
     state=("wx", "wy", "wz", "qw", "qx", "qy", "qz"),
     kernel=kernels.MASS_AVERAGED, pack=pack_averaged, initial_state=initial_averaged, observe=observe_averaged,
     invariants=invariants_averaged,

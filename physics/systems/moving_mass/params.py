@@ -1,6 +1,6 @@
 """The moving-mass system's tables: the mass, the cavity, the medium and the braking control, validated.
 
-Names follow seed 004 and ../shared/MODELS.md Part A section 1 (``rho``, ``Omega``, ``chi``, ``lambda_``).
+Names follow seed 004 and docs/models.md Part A section 1 (``rho``, ``Omega``, ``chi``, ``lambda_``).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from physics.scenario.params import _choice, nonneg, positive
 
 LAWS = ("K", "Jw")
 # initial.mass_state: "rest" puts the mass at O1 with no relative velocity (also when not given); "quasistatic" on
-# its forced (slow-manifold) motion, MODELS.md Part A section 3. The key sits in the shared [initial] table (every
+# its forced (slow-manifold) motion, docs/models.md Part A section 3. The key sits in the shared [initial] table (every
 # shipped file and share link spells it so) but belongs to this system: System.initial_keys.
 MASS_STATES = ("rest", "quasistatic")
 
@@ -69,7 +69,7 @@ class Cavity:
 
     @property
     def coupling(self) -> float:
-        """beta P / nu, kg m^2 s: the cavity's relative momentum is -coupling * w' (MODELS A.3)."""
+        """beta P / nu, kg m^2 s: the cavity's relative momentum is -coupling * w' (docs/models.md A.3)."""
         return self.beta * self.P / self.nu
 
 

@@ -30,7 +30,7 @@ MASS_DEFAULTS = {"m": 0.1, "rho": 1.5, "Omega": 8.0, "chi": 8.0}
 CAVITY_DEFAULTS = {"beta": 1000.0, "nu": 20.0, "a0": 0.1}
 
 PARAMS = (
-    # the six of the braking paper (MODELS.md A.1): the moving mass, the medium and the brake
+    # the six of the braking paper (docs/models.md A.1): the moving mass, the medium and the brake
     Param("mass.m", "m", "kg", "mass of the small body moving inside on a spring-damper; 0 = none; must stay below "
           "the total mass M", 0.0, 1.0, 0.001, "seed 004 eq. (4)", MASS_FOLDER),
     Param("mass.rho", "rho", "m", "distance from the centre of mass to the moving mass's rest point, on the "
@@ -152,7 +152,7 @@ def values(sc, item=None) -> dict[str, float]:
 
 def amplitude(tr, sc) -> float:
     """max |u|, m: the mass's displacement from its rest point O1. The averaged and closed models carry no u,
-    so there it is |u| of the forced (slow-manifold) motion they assume (MODELS A.3), at each output's omega."""
+    so there it is |u| of the forced (slow-manifold) motion they assume (docs/models.md A.3), at each output's omega."""
     inn = tr.internal
     if "ux" in inn:
         return float(np.max(np.sqrt(inn["ux"] ** 2 + inn["uy"] ** 2 + inn["uz"] ** 2)))
@@ -164,7 +164,7 @@ def amplitude(tr, sc) -> float:
 SYSTEM = register_system(System(
     name=NAME, label="moving mass",
     summary="a point mass on a spring-damper, with a fluid cavity, a resisting medium and a braking torque "
-            "(seeds 004 and 000, MODELS.md Part A)",
+            "(seeds 004 and 000, docs/models.md Part A)",
     tables=(Table("mass", Mass), Table("cavity", Cavity), Table("medium", Medium, renamed=(("lambda", "lambda_"),)),
             Table("control", Control)),
     example=resources.files("physics").joinpath("data/default.toml").read_text(encoding="utf-8"),

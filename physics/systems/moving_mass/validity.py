@@ -1,7 +1,7 @@
-"""When the averaged and closed-form models can be trusted: MODELS.md Part A section 5.
+"""When the averaged and closed-form models can be trusted: docs/models.md Part A section 5.
 
 Each condition is a number compared with a limit. The limits turn "<<" into numbers: with them the
-averaged model's theta is good to about 1e-3 rad (MODELS A.7(a): eps = 0.1 gives 4.4e-3 oblate,
+averaged model's theta is good to about 1e-3 rad (docs/models.md A.7(a): eps = 0.1 gives 4.4e-3 oblate,
 7.9e-4 prolate), which is what a user choosing "auto" is promised.
 """
 

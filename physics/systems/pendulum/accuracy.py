@@ -1,11 +1,12 @@
-"""How far the spherical pendulum's averaged model (MODELS B.6) strays from the full model: a bound on
+"""How far the spherical pendulum's averaged model (docs/models.md B.6) strays from the full model: a bound on
 max |theta_averaged - theta_full| over [0, t_end] (rad), and the pendulum's own swing amplitude (issue 15).
 
 The averaged model neglects two kinds of terms; the estimate measures each one's effect on theta over the run's
 own horizon [0, t_end] (so the horizon against the e-folding time needs no separate factor):
 
 - linear terms: the detuning |lambda_1 - Omega|/Omega, the coupling g/|Omega|, the damping ct/lambda_1 beyond
-  first order, and the non-resonant pendulum mode 2. The exact linear theory (MODELS B.3, ``linear.state_matrix``)
+  first order, and the non-resonant pendulum mode 2. The exact linear theory (docs/models.md B.3,
+  ``linear.state_matrix``)
   keeps them all, so ``linear_gap`` = max |theta_averaged - theta_linear| is their whole effect at first order
   in the amplitudes. Where the full model is nearly linear the actual error equals it (to ~1 %).
 - nonlinear terms (both models are linear in the amplitudes): first an amplitude-dependent detuning. The spin rate

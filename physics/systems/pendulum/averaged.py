@@ -1,4 +1,4 @@
-"""The spherical-pendulum damper at the averaged fidelity: MODELS.md Part B section 6.
+"""The spherical-pendulum damper at the averaged fidelity: docs/models.md Part B section 6.
 
 Resonant first-order averaging that keeps the slow phase chi = Psi_1 - Theta (the paper's (12)-(13)
 average it away and predict no damping at all, B.9.5). In complex Cartesian variables relative to
@@ -208,7 +208,7 @@ def initial_momentum(sc: Scenario, G: float) -> np.ndarray:
 
 AVERAGED = register(Model(
     name="spherical_pendulum/averaged", system="spherical_pendulum", fidelity="averaged",
-    summary="resonant first-order averaging keeping the slow phase (MODELS B.6), solved exactly",
+    summary="resonant first-order averaging keeping the slow phase (docs/models.md B.6), solved exactly",
     solve=solve_averaged,
     columns=("alpha", "beta", "alpha_dot", "beta_dot", "W_diss"),
     proxy="full",  # its rows (omega, attitude, the bob's angles and rates) read as the full model's state

@@ -1,4 +1,4 @@
-"""Frequencies of the free pendulum and of the free carrier (seed 002 (4)-(7), (10), (14); MODELS.md
+"""Frequencies of the free pendulum and of the free carrier (seed 002 (4)-(7), (10), (14); docs/models.md
 Part B sections 4, 5 and corrections B.9.1, B.9.2, B.9.4, B.9.6).
 
 Pure functions on floats: moments in kg m^2, rates in rad/s, masses in kg, lengths in m. A body-frame
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 # ---- (6), (7): the free pendulum -----------------------------------------------------------------
 
 def reduced_mass(m: float, M0: float) -> float:
-    """mu = m M0/(M0 + m), kg: the bob's mass in every pendulum equation (MODELS B.2, B.9.1)."""
+    """mu = m M0/(M0 + m), kg: the bob's mass in every pendulum equation (docs/models.md B.2, B.9.1)."""
     return m * M0 / (M0 + m)
 
 
@@ -32,7 +32,7 @@ def frequencies_eq6(omega_n2: float, W: float) -> tuple[float, float]:
 
 
 def pendulum_frequencies(omega0: float, W: float) -> tuple[float, float]:
-    """(6) solved: lambda_{1,2} = |omega_0 -/+ W| (MODELS B.4, B.9.2), rad/s."""
+    """(6) solved: lambda_{1,2} = |omega_0 -/+ W| (docs/models.md B.4, B.9.2), rad/s."""
     return abs(omega0 - W), omega0 + W
 
 
@@ -92,7 +92,7 @@ def free_precession_frequency(A: float, B: float, C: float, W: float) -> float:
 
 
 def precession_amplitude_ratio(A: float, B: float, C: float) -> float:
-    """|omega_y|/|omega_x| of free precession: sqrt(s2/s1) (corrected (10), MODELS B.6, B.9.4)."""
+    """|omega_y|/|omega_x| of free precession: sqrt(s2/s1) (corrected (10), docs/models.md B.6, B.9.4)."""
     s1, s2 = precession_coefficients(A, B, C)
     return math.sqrt(s2 / s1)
 
@@ -105,6 +105,6 @@ def precession_amplitude_ratio_printed(A: float, B: float, C: float) -> float:
 
 def resonant_omega0(A: float, B: float, C: float, W: float) -> float:
     """omega_0 that puts mode 1 on the free nutation, lambda_1 = Omega (or rho), seed 002 (14) with
-    B.9.6: omega_0 = W + rho, i.e. C W/A for a symmetric carrier (MODELS B.5), rad/s."""
+    B.9.6: omega_0 = W + rho, i.e. C W/A for a symmetric carrier (docs/models.md B.5), rad/s."""
     s1, s2 = precession_coefficients(A, B, C)
     return W * (1.0 + math.copysign(math.sqrt(s1 * s2), s1))

@@ -1,10 +1,10 @@
-"""The pendulum systems of seed 002 as the equations need them (MODELS.md Part B section 1).
+"""The pendulum systems of seed 002 as the equations need them (docs/models.md Part B section 1).
 
 A scenario gives the frozen system (carrier + bobs locked at rest) about the system COM O:
 principal moments A, B, C and total mass M, with bob geometry measured from O. The multibody
 equations work about the carrier's own COM G_B with the carrier's own inertia and mass; this
 module converts once, validates that the carrier left over is physical, and resolves
-k = "resonant" / "optimal" (MODELS B.5).
+k = "resonant" / "optimal" (docs/models.md B.5).
 """
 
 from __future__ import annotations
@@ -60,7 +60,7 @@ class PendulumSystem:
 
     @property
     def mu(self) -> float:
-        """Reduced mass of a single bob, m M0/(M0 + m) (MODELS B.9 item 1)."""
+        """Reduced mass of a single bob, m M0/(M0 + m) (docs/models.md B.9 item 1)."""
         m = self.bobs[0].m
         return m * self.M0 / (self.M0 + m)
 
@@ -106,7 +106,7 @@ def resolved_stiffness(sc: Scenario) -> tuple[float, ...]:
 
 
 def resonant_stiffness(system: PendulumSystem, bob: Bob) -> float:
-    """k that puts mode 1 of the spherical pendulum on the free nutation (MODELS B.5, seed 002 (14)):
+    """k that puts mode 1 of the spherical pendulum on the free nutation (docs/models.md B.5, seed 002 (14)):
     symmetric carrier k = mu l^2 (C W/A)^2; asymmetric k = mu l^2 W^2 (1 + sqrt(s1 s2))^2.
     Raises ScenarioError for a prolate carrier, which no stable damper can be tuned to."""
     A, B, C = np.diag(system.I_c)
@@ -118,7 +118,7 @@ def resonant_stiffness(system: PendulumSystem, bob: Bob) -> float:
             f"cannot be tuned for a prolate carrier (C = {C:.6g} <= A = {A:.6g}): its nutation turns against the "
             "spin in the body frame, so resonance needs omega_0 = C W/A < W, where any pivot damping makes the "
             "pendulum whirl unstably, and every damper with omega_0 > W makes the nutation grow (energy-sink "
-            "rule, MODELS B.4-B.5)")
+            "rule, docs/models.md B.4-B.5)")
     if abs(A - B) <= 1e-12 * A:
         return mu * bob.l**2 * (C * W / A) ** 2
     s1, s2 = (C - B) / A, (C - A) / B

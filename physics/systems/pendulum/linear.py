@@ -1,10 +1,10 @@
-"""Linear theory of the spherical-pendulum nutation damper (seed 002, MODELS.md Part B sections 3-5, 9).
+"""Linear theory of the spherical-pendulum nutation damper (seed 002, docs/models.md Part B sections 3-5, 9).
 
 Pure functions on plain floats. The carrier's own moments ``A, B, C`` about its own COM, the spin
 rate ``W`` (rad/s), the bob's reduced mass ``mu`` (kg), arm ``l`` (m), the rest distance ``D`` (m)
 of the bob from the carrier COM, spring ``k`` (N m/rad) and pivot damping ``c_d`` (N m s/rad) are
 gathered in ``SphericalLinear``. Exponents ``s`` are body-frame: a mode goes as ``e^{s t}``, and
-``Im s > 0`` turns with the spin. Corrections of MODELS B.9 are named where they are used.
+``Im s > 0`` turns with the spin. Corrections of docs/models.md B.9 are named where they are used.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ ROOT_NAMES = ("nutation", "pendulum 1", "pendulum 2")
 
 @dataclass(frozen=True)
 class SphericalLinear:
-    """The parameters of MODELS B.3 (carrier-only moments A, B, C in kg m^2; SI units)."""
+    """The parameters of docs/models.md B.3 (carrier-only moments A, B, C in kg m^2; SI units)."""
 
     A: float
     C: float
@@ -102,7 +102,7 @@ def spherical_linear(system) -> SphericalLinear:
 # ---- the coupled linear system (B.3) -------------------------------------------------------------
 
 def characteristic_coefficients(p: SphericalLinear) -> np.ndarray:
-    """Coefficients (highest power first, complex) of MODELS B.3's exact characteristic polynomial
+    """Coefficients (highest power first, complex) of docs/models.md B.3's exact characteristic polynomial
 
     P(s) = (s^2 + (2iW + ct)s + omega_n^2)(A s - i(C - A)W) + mu D^2 (s + iW)(omega_0^2 + ct s)
 
@@ -151,7 +151,7 @@ def classify_roots(p: SphericalLinear, roots=None) -> dict[str, complex]:
 
 
 def state_matrix(p: SphericalLinear) -> np.ndarray:
-    """The real 6x6 matrix of MODELS B.3 for state (omega_x, omega_y, alpha, beta, alpha', beta'),
+    """The real 6x6 matrix of docs/models.md B.3 for state (omega_x, omega_y, alpha, beta, alpha', beta'),
     any A, B: omega_z' = 0 at first order, so these six are the coupled block of the full model's
     Jacobian about steady spin."""
     A, B, C, W, mu, l, D = p.A, p.Bm, p.C, p.W, p.mu, p.l, p.D
@@ -192,7 +192,7 @@ def exponents(p: SphericalLinear) -> np.ndarray:
 
 
 def slowest_decay_rate(p: SphericalLinear) -> float:
-    """min over modes of -Re s, 1/s: what optimal tuning maximises (MODELS B.5); < 0 means growth."""
+    """min over modes of -Re s, 1/s: what optimal tuning maximises (docs/models.md B.5); < 0 means growth."""
     return float(-np.max(exponents(p).real))
 
 
@@ -252,7 +252,7 @@ def _tuned(p: SphericalLinear, omega0: float, ct: float) -> SphericalLinear:
 
 
 def recipe_tuning(p: SphericalLinear) -> tuple[float, float]:
-    """The averaged theory's starting point (MODELS B.5): omega_0 from (14) and critical coupling
+    """The averaged theory's starting point (docs/models.md B.5): omega_0 from (14) and critical coupling
     gamma_1 = 2g, i.e. ct = 4 g omega_0/lambda_1 with g^2 = mu D^2 C W omega_0/(2 A^2). (omega_0, ct)."""
     w0 = resonant_omega0(p.A, p.Bm, p.C, p.W)
     lam1 = w0 - p.W
@@ -282,14 +282,14 @@ def _double_root(p: SphericalLinear, x: np.ndarray, s: complex) -> tuple[np.ndar
 
 
 def optimal_parameters(p: SphericalLinear) -> tuple[float, float, float]:
-    """(omega_0*, ct*, rate*) maximising the slowest decay rate of the linear system (MODELS B.5).
+    """(omega_0*, ct*, rate*) maximising the slowest decay rate of the linear system (docs/models.md B.5).
 
     The optimum is non-smooth: there two roots meet. A coarse Nelder-Mead on (omega_0, ct) from the
     recipe tuning gets near it; for a symmetric carrier, Newton onto the double root of P(s) then pins
     it down, and is kept when it is at least as good; otherwise a fine Nelder-Mead finishes the job.
     Reference set R: omega_0* = 3.00372753, c_d* = ct* mu l^2 = 8.54877461, rate 0.139836998 1/s."""
     if p.C <= max(p.A, p.Bm):
-        raise ValueError("no stable tuning exists for a prolate carrier (MODELS B.5)")
+        raise ValueError("no stable tuning exists for a prolate carrier (docs/models.md B.5)")
     x0 = np.array(recipe_tuning(p))
     if p.B is None:
         A, W, q = p.A, p.W, p.mu * p.D**2
@@ -334,7 +334,7 @@ def optimal_parameters(p: SphericalLinear) -> tuple[float, float, float]:
 
 def optimal_tuning(system) -> tuple[float, float]:
     """(k, c_d) of the spherical pendulum that maximise the slowest decay rate of the linear system
-    (MODELS B.5), for a ``PendulumSystem`` whose single bob is a spherical pendulum (its k, c_d ignored).
+    (docs/models.md B.5), for a ``PendulumSystem`` whose single bob is a spherical pendulum (its k, c_d ignored).
     Raises ScenarioError for a prolate carrier."""
     from physics.core.errors import ScenarioError
 
@@ -343,7 +343,8 @@ def optimal_tuning(system) -> tuple[float, float]:
         system, bobs=(replace(bob, k=1.0),)))
     if p.C <= max(p.A, p.Bm):
         raise ScenarioError("pendulum.k", "optimal", f"cannot be tuned for a prolate carrier (C = {p.C:.6g} <= "
-                            f"A = {p.A:.6g}): every damper with omega_0 > W makes the nutation grow (MODELS B.5)")
+                            f"A = {p.A:.6g}): every damper with omega_0 > W makes the nutation grow "
+                            "(docs/models.md B.5)")
     if p.D == 0:
         raise ScenarioError("pendulum.h", -bob.l, "puts the bob level with the system COM (D = 0): the pendulum "
                             "is not coupled to the nutation at first order, so no tuning damps it")

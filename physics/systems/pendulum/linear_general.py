@@ -1,6 +1,6 @@
-"""Linearisation of any set of pendulum bobs about steady spin (MODELS.md Part B sections 2, 3, 7).
+"""Linearisation of any set of pendulum bobs about steady spin (docs/models.md Part B sections 2, 3, 7).
 
-The full equations of MODELS B.2 are expanded to first order about omega = (0, 0, W) with every bob
+The full equations of docs/models.md B.2 are expanded to first order about omega = (0, 0, W) with every bob
 at rest. They are linear in the perturbation, so the matrices are assembled column by column from
 unit perturbations: no finite differences. For one spherical bob this reproduces the matrix of B.3
 (``pendulum_linear.state_matrix``); for plane pendulums it gives the frequencies (15) and the
@@ -22,7 +22,7 @@ EQUILIBRIUM_TOL = 1e-9  # relative: the rest state must be a steady spin for a l
 
 def bob_geometry(bob) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(r0 (3,), J (3, n), H (n, n, 3)) of a ``pendulum_system.Bob``: rest position from the carrier COM,
-    dr/dq and d2r/dq_a dq_b at rest (MODELS B.1: e = (sin b, -sin a cos b, cos a cos b) for the spherical
+    dr/dq and d2r/dq_a dq_b at rest (docs/models.md B.1: e = (sin b, -sin a cos b, cos a cos b) for the spherical
     bob; r = p + l (cos a e0 + sin a (n x e0)) for a plane one)."""
     l = bob.l
     if bob.kind == "spherical":
@@ -85,7 +85,7 @@ class _Bobs:
         return np.concatenate([carrier, *joints])
 
     def momentum(self, y: np.ndarray) -> np.ndarray:
-        """First-order angular momentum about O (body components) of state y, MODELS B.2's H."""
+        """First-order angular momentum about O (body components) of state y, docs/models.md B.2's H."""
         W, N = self.W, self.N
         dw, q, qd = y[:3], y[3:3 + N], y[3 + N:]
         H = self.I @ dw
@@ -158,7 +158,7 @@ def block_frequencies(system) -> np.ndarray:
 def plane_frequency(bob, W: float, M_tot: float) -> float:
     """Seed 002 (15): omega_k of one plane pendulum with the carrier in steady spin W (rad/s),
     omega_k^2 = k/(mu l^2) + W^2 ((e0 . r0_xy)/l - |t_xy|^2), t = n x e0 the swing direction,
-    mu = m (M_tot - m)/M_tot. This is MODELS B.7's table: in-plane W^2 R/l + k/(mu l^2), meridian
+    mu = m (M_tot - m)/M_tot. This is docs/models.md B.7's table: in-plane W^2 R/l + k/(mu l^2), meridian
     W^2 (1 +/- R/l) + k/(mu l^2). Exact for a single bob; with several, it leaves out their coupling."""
     r0 = np.asarray(bob.rest, dtype=float)
     t = np.cross(bob.axis, bob.arm)

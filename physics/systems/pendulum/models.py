@@ -1,4 +1,4 @@
-"""The pendulum-damper systems of seed 002 (MODELS.md Part B) at the full fidelity.
+"""The pendulum-damper systems of seed 002 (docs/models.md Part B) at the full fidelity.
 
 Both start from the initial rotation of the frozen system (``initial_G``: the bobs at rest relative
 to the carrier at their rest positions), identity attitude and no dissipated work. The equations
@@ -67,7 +67,7 @@ def _internal(Y: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def observe(t, Y, p, sc) -> Trajectory:
-    """theta is the angle between the total H about O and body e3 (MODELS B.2 "Nutation angle")."""
+    """theta is the angle between the total H about O and body e3 (docs/models.md B.2 "Nutation angle")."""
     H, E = kernel.observe(np.ascontiguousarray(Y), p)
     o = 3 + 2 * _nq(p)
     return Trajectory(t=t, theta=nutation_angle(H), K=np.linalg.norm(H, axis=1), E=E, omega=Y[:, 0:3].copy(),
@@ -83,7 +83,8 @@ def invariants(Y, p):
 
 SPHERICAL_FULL = register(Model(
     name="spherical_pendulum/full", system="spherical_pendulum", fidelity="full",
-    summary="carrier + spherical pendulum (Alger) on a Cardan pivot, exact reduced multibody equations (MODELS B.2)",
+    summary="carrier + spherical pendulum (Alger) on a Cardan pivot, exact reduced multibody equations "
+            "(docs/models.md B.2)",
     state=("wx", "wy", "wz", "alpha", "beta", "alpha_dot", "beta_dot", "qw", "qx", "qy", "qz", "W_diss", "chart"),
     kernel=kernels.SPHERICAL_FULL, pack=pack, initial_state=initial_state, observe=observe, invariants=invariants,
     columns=("alpha", "beta", "alpha_dot", "beta_dot", "W_diss", "chart"),
@@ -98,7 +99,7 @@ def plane_layout(n: int) -> tuple[str, ...]:
 
 PLANE_FULL = register(Model(
     name="plane_pendulums/full", system="plane_pendulums", fidelity="full",
-    summary="carrier + N plane pendulums (Taylor), exact reduced multibody equations (MODELS B.2)",
+    summary="carrier + N plane pendulums (Taylor), exact reduced multibody equations (docs/models.md B.2)",
     state=("wx", "wy", "wz", "qw", "qx", "qy", "qz", "W_diss"),  # with N = 0; ``plane_layout`` names the rest
     layout=plane_layout,
     kernel=kernels.PLANE_FULL, pack=pack, initial_state=initial_state, observe=observe, invariants=invariants,

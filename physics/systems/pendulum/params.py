@@ -1,14 +1,14 @@
-"""Parameters of the pendulum nutation dampers (seed 002, MODELS.md Part B), validated.
+"""Parameters of the pendulum nutation dampers (seed 002, docs/models.md Part B), validated.
 
 ``[pendulum]`` is Alger's spherical pendulum: a bob of mass m (kg) on an arm of length l (m) from
 a two-gimbal pivot on the spin axis at height h (m) above the system COM O (bob at rest at
 (h + l) e3), a torsional spring k (N m/rad) and a pivot damper c_d (N m s/rad) on both gimbal
 angles. ``[[plane_pendulum]]`` is one of Taylor's plane pendulums: a hinge point (m, from O), a
 hinge axis, an arm direction at rest (perpendicular to the axis), l, m, k, c_d; or a named
-``preset`` geometry of MODELS B.7 placed by ``R``, ``z_p`` and ``azimuth`` (rad).
-``k`` may be "resonant" or "optimal" (spherical pendulum): tuned from the scenario (MODELS B.5).
+``preset`` geometry of docs/models.md B.7 placed by ``R``, ``z_p`` and ``azimuth`` (rad).
+``k`` may be "resonant" or "optimal" (spherical pendulum): tuned from the scenario (docs/models.md B.5).
 ``pivot`` (spherical pendulum) says what the spring and damper act on: "cardan" (the default, the paper's
-model, MODELS B.1): the two gimbal angles, V = k (alpha^2 + beta^2)/2, singular where the arm is
+model, docs/models.md B.1): the two gimbal angles, V = k (alpha^2 + beta^2)/2, singular where the arm is
 perpendicular to both gimbal axes (|beta| = 90 deg), so the run stops there with a spring; "isotropic": the
 arm's direction e, V = k (1 - e.e3), R = c_d |e'|^2/2, the same to second order in the angles and defined at
 every position, so the run goes on through that pole (physics/compiled/pendulum.py).
@@ -48,7 +48,7 @@ def _vector(key: str, value, *, nonzero: bool) -> tuple[float, float, float]:
 
 @dataclass(frozen=True)
 class Pendulum:
-    """Spherical pendulum (seed 002, Alger's damper; MODELS B.1). ``pivot``: see the module docstring."""
+    """Spherical pendulum (seed 002, Alger's damper; docs/models.md B.1). ``pivot``: see the module docstring."""
 
     m: float
     l: float
@@ -71,7 +71,7 @@ class Pendulum:
 
 @dataclass(frozen=True)
 class PlanePendulum:
-    """One plane pendulum (seed 002, Taylor's damper; MODELS B.1, B.7). Give ``hinge``, ``axis`` and
+    """One plane pendulum (seed 002, Taylor's damper; docs/models.md B.1, B.7). Give ``hinge``, ``axis`` and
     ``arm``, or a ``preset`` with ``R``, ``z_p`` and ``azimuth``."""
 
     m: float

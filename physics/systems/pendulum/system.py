@@ -1,5 +1,5 @@
 """The two pendulum-damper systems registered: Alger's spherical pendulum and Taylor's plane pendulums
-(seed 002, MODELS.md Part B). They share the geometry (``geometry``), the compiled kernel and the linear
+(seed 002, docs/models.md Part B). They share the geometry (``geometry``), the compiled kernel and the linear
 theory; only the spherical pendulum has an averaged model."""
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ def _params(systems: str) -> tuple[Param, ...]:
                    -1.0, 1.0, 0.01, "seed 002", FOLDER),) if systems == "spherical" else ()
     return common + pivot + (
         Param("pendulum.k", "spring k", "N m/rad", "torsional spring at the pivot; 'tune to resonance' matches the "
-              "free nutation", 0.0, 2.0, 0.001, "seed 002; MODELS B.5 (tuning)", FOLDER),
+              "free nutation", 0.0, 2.0, 0.001, "seed 002; docs/models.md B.5 (tuning)", FOLDER),
         Param("pendulum.c_d", "damper c_d", "N m s/rad", "pivot damper", 0.0, 0.2, 0.0005, "seed 002", FOLDER),
     )
 
@@ -147,7 +147,7 @@ t_end = 60.0
 
 PLANE_EXAMPLE = """\
 # preset: Plane pendulums (three, in the spin plane)
-# Taylor's plane pendulums: three in the spin plane, 120 degrees apart (seed 002, MODELS B.7).
+# Taylor's plane pendulums: three in the spin plane, 120 degrees apart (seed 002, docs/models.md B.7).
 [body]
 A = 1.0
 C = 1.4
@@ -173,7 +173,7 @@ t_end = 60.0
 
 SPHERICAL = register_system(System(
     name="spherical_pendulum", label="spherical pendulum",
-    summary="Alger's spherical pendulum on a two-gimbal pivot with a torsional spring and damper (MODELS B.1)",
+    summary="Alger's spherical pendulum on a two-gimbal pivot with a torsional spring and damper (docs/models.md B.1)",
     tables=(Table("pendulum", Pendulum),), example=SPHERICAL_EXAMPLE, params=_params("spherical"), folders=(FOLDER,),
     check=check, conditions=validity.averaged_conditions, choose=validity.choose, derived=derived, edit=edit,
     error_bounds=validity.error_bounds, error_method=validity.METHOD,
@@ -183,7 +183,7 @@ SPHERICAL = register_system(System(
 
 PLANE = register_system(System(
     name="plane_pendulums", label="plane pendulums",
-    summary="Taylor's plane pendulums, each on a hinge with a torsional spring and damper (MODELS B.1, B.7)",
+    summary="Taylor's plane pendulums, each on a hinge with a torsional spring and damper (docs/models.md B.1, B.7)",
     tables=(Table("plane_pendulum", PlanePendulum, array=True, field="plane_pendulums"),), example=PLANE_EXAMPLE,
     params=_params("plane"), borrows=("pendulum",), folders=(FOLDER,), check=check,
     choose=lambda sc: ("full", "plane pendulums have only the full model"), derived=derived, edit=edit,

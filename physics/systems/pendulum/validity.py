@@ -1,7 +1,7 @@
 """Where the spherical pendulum's averaged model may run, its error estimate, and ``auto``'s choice (issue 15).
 
 Since issue 15 the averaged model's error is estimated (``accuracy.averaged_error_bound``: the detuning, the
-coupling, the damping, the amplitude nonlinearity and the horizon are all in it), so the old limits of MODELS
+coupling, the damping, the amplitude nonlinearity and the horizon are all in it), so the old limits of docs/models.md
 B.10 on those no longer block it: ``auto`` runs it when the estimate meets run.accuracy. What remains are the
 structural conditions the estimate cannot cover: a spring (the model averages about omega_0), a symmetric
 carrier (its equations are for A = B), and the domain the estimate was calibrated on, stated in the pendulum's

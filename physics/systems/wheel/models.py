@@ -33,7 +33,7 @@ def initial_state(sc: Scenario, p: np.ndarray) -> np.ndarray:
 
 
 def observe(t, Y, p, sc) -> Trajectory:
-    """theta is the angle between the total K and body e3 (the MODELS conventions' nutation angle)."""
+    """theta is the angle between the total K and body e3 (the docs/models.md conventions' nutation angle)."""
     K, E = kernel.observe(np.ascontiguousarray(Y), p)
     internal = {name: Y[:, STATE.index(name)].copy() for name in ("phi_w", "Omega_w", "W_diss")}
     return Trajectory(t=t, theta=nutation_angle(K), K=np.linalg.norm(K, axis=1), E=E, omega=Y[:, 0:3].copy(),
