@@ -80,3 +80,33 @@ def test_a_plane_bob_swings_in_the_plane_normal_to_its_hinge():
         assert abs(r @ n) < LENGTH_TOL
         assert math.acos(np.clip(r @ e0 / pp.l, -1, 1)) == pytest.approx(0.4 * (i + 1), abs=1e-9)
     assert "bobs (3)" in parts["bob0"].label
+
+
+def test_a_disk_is_drawn_with_its_face_rim_and_spokes_turning_with_its_angle():
+    """app.scene.figure_view draws a physics Disk: the rim on its circle, SPOKES radii from its angle (so a
+    turning wheel is seen to turn), and a face that covers the circle; all in the disk's plane."""
+    from app.scene.figure_view import DISK_SIDES, SPOKES, disk_face, disk_segments
+
+    n = np.array([1.0, 2.0, 2.0]) / 3.0
+    ref = np.cross(n, [0.0, 0.0, 1.0])
+    ref /= np.linalg.norm(ref)
+    disk = physics.figure.Disk(name="w", role="w", label="w", colour="wheel", centre=(0.1, 0.0, 0.2), normal=n,
+                               ref=ref, radius=0.5, angle=0.7)
+    k, size = 2.0, 1.5
+    c = k * np.array(disk.centre)
+    segs = disk_segments(disk, k, size)
+    assert segs.shape == (DISK_SIDES + SPOKES, 2, 3)
+    np.testing.assert_allclose(np.linalg.norm(segs[:DISK_SIDES, 0] - c, axis=1), k * 0.5, rtol=1e-12)
+    np.testing.assert_allclose((segs.reshape(-1, 3) - c) @ n, 0.0, atol=1e-12)  # all in the disk's plane
+    first = segs[DISK_SIDES, 1] - c
+    f = np.cross(n, ref)
+    np.testing.assert_allclose(first, k * 0.5 * (np.cos(0.7) * ref + np.sin(0.7) * f), atol=1e-12)
+    turned = disk_segments(physics.figure.Disk(**{**disk.__dict__, "angle": 0.7 + 0.3}), k, size)
+    assert not np.allclose(turned[DISK_SIDES:], segs[DISK_SIDES:])  # the spokes turn
+    np.testing.assert_allclose(turned[:DISK_SIDES], segs[:DISK_SIDES], atol=1e-12)  # the rim stays
+    vertices, faces = disk_face(disk, k, size)
+    assert faces.min() == 0 and faces.max() == len(vertices) - 1
+    area = sum(0.5 * np.linalg.norm(np.cross(vertices[b] - vertices[a], vertices[c_] - vertices[a]))
+               for a, b, c_ in faces)
+    polygon = 0.5 * DISK_SIDES * (k * 0.5) ** 2 * np.sin(2 * np.pi / DISK_SIDES)  # the inscribed polygon's area
+    assert area == pytest.approx(polygon, rel=1e-12)

@@ -18,7 +18,7 @@ from .labels import label_groups
 from .legend import COLORS, LegendView, parts_of
 from .sphere_view import SphereView
 
-ARROWS = ("K", "omega", "e3", "torque")  # the arrows' order in the arrows node, and in a merged label
+ARROWS = ("K", "omega", "e3", "torque")  # the arrows' order (the first three in the arrows node), and in a merged label
 SCENE_SIZE = 1.5  # scene units the body spans, whatever its size in metres
 
 
@@ -83,10 +83,13 @@ class Drawing:
         # their bounding spheres' centres, so a mesh whose centre is off the origin (the satellite's dish) was
         # drawn after the ellipsoid's near face and hidden behind it; the far face hides nothing inside
         self.parts.draw(eng.frame_figure(), k, s)
-        arrows = np.zeros((4, 2, 3))
-        colors = np.array([COLORS["K"], COLORS["omega"], COLORS["axis"], COLORS["torque"]], dtype=np.uint8)
-        self.handles["arrows"] = sc.add_arrows(f"{r}/arrows", arrows, colors, shaft_radius=0.012 * s,
-                                               head_radius=0.035 * s, head_length=0.08 * s)
+        look = dict(shaft_radius=0.012 * s, head_radius=0.035 * s, head_length=0.08 * s)
+        colors = np.array([COLORS["K"], COLORS["omega"], COLORS["axis"]], dtype=np.uint8)
+        self.handles["arrows"] = sc.add_arrows(f"{r}/arrows", np.zeros((3, 2, 3)), colors, **look)
+        # the braking torque's arrow is a node of its own, hidden while there is none: an arrow of zero length
+        # still draws its head, a magenta blob at the body's centre that the legend did not explain
+        self.handles["torque"] = sc.add_arrows(f"{r}/torque", np.zeros((1, 2, 3)),
+                                               np.array([COLORS["torque"]], dtype=np.uint8), visible=False, **look)
         self.handles["labels"] = [sc.add_label(f"{r}/lab_{n}", n, font_screen_scale=0.8, anchor="bottom-left")
                                   for n in ARROWS]  # slots: a merged label uses the first, the rest hide
         self.handles["trail"] = sc.add_line_segments(f"{r}/trail", np.zeros((1, 2, 3)), COLORS["trail"],
@@ -109,8 +112,11 @@ class Drawing:
         origin = np.zeros(3)
         k = self.k
         vecs = [k * v for v in (fr.K_vec, fr.omega_vec, fr.axis_vec)]
-        vecs.append(k * fr.torque_vec if fr.torque_vec is not None else origin)
         h["arrows"].points = np.array([[origin, v] for v in vecs])
+        vecs.append(k * fr.torque_vec if fr.torque_vec is not None else origin)
+        if fr.torque_vec is not None:
+            h["torque"].points = np.array([[origin, vecs[-1]]])
+        set_if_changed(h["torque"], "visible", fr.torque_vec is not None)
         self.compare.update(k, SCENE_SIZE, plots_now)
         if plots_now:  # labels and trails change slowly: at the plots' rate, not every frame
             groups = label_groups(dict(zip(ARROWS, vecs, strict=True)), SCENE_SIZE)  # "K, omega, e3" when aligned
