@@ -5,7 +5,9 @@ The engine judges a typed value by building the scenario it makes (app.engine.ed
 tick then applies that very scenario instead of building it again, and the panel's run-level choices (fidelity,
 auto's accuracy, pivot) are already in the base it is built from (Engine._chosen_base), so no third build adds
 them. Before: 2 ``Scenario.from_dict`` and 3 scenarios built, 1,412 project calls (612 in physics/registry.py);
-after: 1, 1 and 996 (408), on the default scene, paused, mass.m 0.21 -> 0.22 kg.
+after: 1, 1 and 996 (408), on the default scene, paused, mass.m 0.21 -> 0.22 kg; with physics's table lookup
+made a dict read (a Scenario's part attributes no longer walk the registry's tables), 665 calls, of which 11
+look a system or a model up in the registry (``get_system``, ``get_model``, ``systems``, ``tables``).
 """
 
 from __future__ import annotations
@@ -22,7 +24,9 @@ from physics.kernels.build import wait as kernel_build_done
 ROOT = Path(__file__).resolve().parents[1]
 PROJECT = (str(ROOT / "physics") + "/", str(ROOT / "app") + "/")
 FRAME_S = 1.0 / 60.0
-CALLS_MAX = 1100  # project calls in the tick that applies one slider change: 996 measured, 1,412 before
+CALLS_MAX = 1100  # project calls in the tick that applies one slider change: 665 measured, 1,412 before
+LOOKUPS_MAX = 15  # registry lookups of a system or a model in that tick: 11 measured (hundreds before)
+LOOKUPS = ("get_system", "get_model", "systems", "tables")
 BUILD_WAIT_S = 600.0  # a kernel build an earlier test started (numba: minutes on a busy machine)
 
 
@@ -84,6 +88,13 @@ def test_a_slider_change_calls_few_project_functions(monkeypatch):
     _, _, calls = _one_change(monkeypatch)
     total = sum(calls.values())
     assert total <= CALLS_MAX, (total, calls.most_common(10))
+
+
+def test_a_slider_change_looks_the_registry_up_a_handful_of_times(monkeypatch):
+    _, _, calls = _one_change(monkeypatch)
+    lookups = {name: n for (path, name), n in calls.items()
+               if path.endswith("physics/registry.py") and name in LOOKUPS}
+    assert 0 < sum(lookups.values()) <= LOOKUPS_MAX, lookups
 
 
 def test_the_choices_a_slider_change_keeps_are_built_once_not_per_change(monkeypatch):
