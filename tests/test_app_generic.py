@@ -4,8 +4,8 @@ its conditions' sentences), and the app draws, labels, offers and explains them 
 The names come from physics.SYSTEMS: every table (its TOML name and its Scenario attribute) and every parameter
 key. An app file that names one in code (an attribute ``sc.mass``; a string that is a table's name, holds a
 key, "pendulum.k", or starts with a table's, "pendulum.") knows a system. Comments and docstrings may name one
-as an example; they are left out. Exempt: app/presets.py's BUILT_IN, scenes written as data in the TOML layout,
-as the scenario files in assets/ are.
+as an example; they are left out. No file is exempt: the explorer's own scenes are scenario files too
+(assets/scenarios/explorer).
 """
 
 from __future__ import annotations
@@ -16,7 +16,6 @@ from pathlib import Path
 import physics
 
 APP = Path(__file__).resolve().parents[1] / "app"
-DATA = {"presets.py"}  # scenes as data (module docstring)
 
 
 def _names() -> tuple[set[str], set[str]]:
@@ -51,7 +50,7 @@ def _code_names(path: Path, attributes: set[str], strings: set[str]) -> list[str
 def test_no_app_file_names_a_system_table_or_key():
     attributes, strings = _names()
     assert attributes and strings  # the systems are registered: the test looks for something
-    found = [f for path in sorted(APP.rglob("*.py")) if path.name not in DATA
+    found = [f for path in sorted(APP.rglob("*.py"))
              for f in _code_names(path, attributes, strings)]
     assert found == [], "app code names a system's tables or keys:\n" + "\n".join(found)
 

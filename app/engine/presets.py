@@ -11,34 +11,12 @@ import physics
 
 ASSETS = Path(__file__).resolve().parents[2] / "assets" / "scenarios"
 FIGURES = ASSETS / "figures"
+EXPLORER = ASSETS / "explorer"  # the explorer's own scenes, offered after the files above and before the examples
 TITLE_LINE = "# preset: "  # the first line of a preset file: its title (bench/figures.py PRESET_HEADER writes it too)
 DEFAULT = "Default: oblate body settling (1 min)"
 
 # Scenes without a file. Each is a scenario dict in the TOML layout (README "Use"). The systems' examples
 # (physics.System.example, titled by their first line) are presets too: see examples().
-BUILT_IN: dict[str, dict] = {
-    "Braking a body with a viscoelastic mass (starts quasi-static)": {
-        "body": {"A": 1.0, "C": 1.4, "M": 10.0},
-        "mass": {"m": 0.3, "rho": 1.5, "Omega": 20.0, "chi": 20.0},
-        "control": {"b": 0.005, "law": "Jw"},
-        "initial": {"G0": 1.0, "theta0": 0.7, "mass_state": "quasistatic"},
-        "run": {"fidelity": "auto", "t_end": 200.0},
-    },
-    "Spherical pendulum damper, detuned": {
-        "body": {"A": 1.0, "C": 1.4, "M": 1.0},
-        "pendulum": {"m": 0.05, "l": 0.3, "h": 0.5, "k": 0.05, "c_d": 0.01},
-        "initial": {"G0": 2.0, "theta0": 0.3},
-        "run": {"fidelity": "full", "t_end": 60.0},
-    },
-    "Asymmetric body: intermediate-axis flip": {
-        "body": {"A": 1.5, "B": 1.0, "C": 2.0, "M": 1.0},
-        "initial": {"omega": [2.0, 0.02, 0.02]},
-        "run": {"fidelity": "full", "t_end": 30.0},
-    },
-}
-
-
-
 def _title(path: Path) -> str:
     """A scenario file's title: its first line ``# preset: TITLE``, else its name."""
     with path.open(encoding="utf-8") as fh:
@@ -65,8 +43,11 @@ def _figure_order(f: Path) -> tuple[int, str]:
 
 
 def preset_files() -> dict[str, Path]:
-    """Title -> scenario file: assets/scenarios/*.toml, then the figure presets in the order bench wrote them."""
+    """Title -> scenario file: assets/scenarios/*.toml, the explorer's own scenes (assets/scenarios/explorer, in
+    their files' order), then the figure presets in the order bench wrote them."""
     files = sorted(ASSETS.glob("*.toml")) if ASSETS.is_dir() else []
+    if EXPLORER.is_dir():
+        files += sorted(EXPLORER.glob("*.toml"))
     if FIGURES.is_dir():
         files += sorted(FIGURES.glob("*.toml"), key=_figure_order)
     return {_title(f): f for f in files}
@@ -77,7 +58,8 @@ def preset_names() -> list[str]:
     has it) is one preset, not two (a dropdown with a repeated option does not open on the page)."""
     files = preset_files()
     figures = [t for t, f in files.items() if f.parent == FIGURES]
-    names = [DEFAULT] + [t for t in files if t not in figures] + list(BUILT_IN) + list(examples()) + figures
+    own = [t for t, f in files.items() if f.parent == EXPLORER]
+    names = [DEFAULT] + [t for t in files if t not in figures + own] + own + list(examples()) + figures
     return list(dict.fromkeys(names))
 
 
@@ -85,8 +67,6 @@ def load_preset(name: str) -> physics.Scenario:
     """The scenario of a preset (ScenarioError if it no longer validates, KeyError if unknown)."""
     if name == DEFAULT:
         return physics.default_scenario()
-    if name in BUILT_IN:
-        return physics.Scenario.from_dict(BUILT_IN[name])
     if name in (shown := examples()):
         return physics.Scenario.from_toml(shown[name])
     return physics.Scenario.load(preset_files()[name])
