@@ -31,7 +31,7 @@ def counted(monkeypatch):
 
 def start_badge(engine: Engine) -> threading.Thread:
     assert "working out" in engine.badge()
-    return engine._badge_thread
+    return engine.auto_badge.thread
 
 
 def test_a_badge_cancelled_during_its_analysis_stops_and_shows_nothing(monkeypatch, counted):
@@ -51,8 +51,8 @@ def test_a_badge_cancelled_during_its_analysis_stops_and_shows_nothing(monkeypat
     thread.join(JOIN_S)
     assert not thread.is_alive()
     assert counted == []  # no unit of work after the cancel
-    assert e._badge is None and not e._badge_busy  # nothing published; a later badge could start anew
-    assert e._badge_stop.interrupts == 1  # the unit in progress was interrupted, not left to finish
+    assert e.auto_badge.done is None and not e.auto_badge.busy  # nothing published; a later badge could start anew
+    assert e.auto_badge.stop.interrupts == 1  # the unit in progress was interrupted, not left to finish
 
 
 def test_cancel_interrupts_a_physics_call_that_would_run_on(monkeypatch, counted):
@@ -79,7 +79,7 @@ def test_cancel_interrupts_a_physics_call_that_would_run_on(monkeypatch, counted
         give_up.set()  # end the loop whatever happened, so no thread outlives the test
         thread.join(JOIN_S)
     assert stopped_by_cancel, "the badge thread ran on after cancel_workers"
-    assert turns[0] > 0 and counted == [] and e._badge is None
+    assert turns[0] > 0 and counted == [] and e.auto_badge.done is None
 
 
 def test_a_badge_cancelled_before_it_starts_runs_no_unit(monkeypatch, counted):

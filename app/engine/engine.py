@@ -41,10 +41,10 @@ from .output import OutputMixin
 from .sphere import MomentumPath
 from .trail import split_advance, thinned
 from .trail import turn_period as cone_turn_period
-from .workers import BadgeMixin, OverlayMixin
+from .workers import Badge, OverlayMixin
 
 
-class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
+class Engine(ActionsMixin, OutputMixin, OverlayMixin, FrameMixin):
     """The simulation of one tab."""
 
     def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
@@ -65,7 +65,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.show_polhode = False
         self.show_sphere = True  # the momentum sphere beside the body (app.scene.sphere_view)
         self.sphere_path = MomentumPath()  # K's direction in body axes over the run (app.engine.sphere)
-        self._init_badge()
+        self.auto_badge = Badge(lambda: self.scenario)  # auto's choice in words, worked out off the loop thread
         self._init_overlay()
         self.error = ""
         self.guard = edits.Guard()  # typed values judged, notes beside sliders, undo (app.engine.edits)
@@ -183,6 +183,14 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, BadgeMixin, FrameMixin):
         self.edit_dE: float | None = None  # what the last edit did to E (J), shown until the next edit or reset
         self.edit_note = ""  # why the last edit could not keep the state
         restart_compare(self)  # the second run (compare mode) starts again with the first
+
+    def badge(self, block: bool = False) -> str:
+        """Auto's badge as markdown (``Badge.text``): a placeholder until its worker is done, unless ``block``."""
+        return self.auto_badge.text(block)
+
+    def badge_details(self) -> str:
+        """The badge's conditions as formulas (``Badge.details``); "" until the badge is ready."""
+        return self.auto_badge.details()
 
     def static_signature(self) -> tuple:
         """What the static meshes depend on: the body, its ellipsoid and the system's figure's static part with

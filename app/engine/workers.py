@@ -13,6 +13,7 @@ from __future__ import annotations
 import ctypes
 import threading
 import warnings
+from collections.abc import Callable
 
 import numpy as np
 
@@ -126,10 +127,10 @@ class OverlayMixin:
 
     def cancel_workers(self) -> None:
         """The tab closed: a prediction being computed gives up at its next chunk, and the badge's analysis
-        stops (``BadgeMixin.cancel_badge``; the Engine mixes in both)."""
+        stops (``Badge.cancel``)."""
         self._overlay_gen += 1
         self.overlay_dirty = False
-        self.cancel_badge()
+        self.auto_badge.cancel()
 
     def wait_overlay(self, timeout: float = 30.0) -> bool:
         """Block until the overlay being computed is done (for tests and scripts)."""
@@ -142,59 +143,61 @@ class OverlayMixin:
         return self.overlay is not None
 
 
-class BadgeMixin:
-    """Auto's badge, cached per scenario: ``badge()`` returns markdown at once (a placeholder until ready)."""
+class Badge:
+    """Auto's badge, cached per scenario: ``text()`` returns markdown at once (a placeholder until ready).
+    ``scenario``: the engine's scenario now (the badge is for whichever scenario is current when asked)."""
 
-    def _init_badge(self) -> None:
-        self._badge: tuple | None = None  # (scenario, markdown, details' markdown) of the last badge
-        self._badge_busy = False
-        self._badge_thread: threading.Thread | None = None
-        self._badge_stop: BadgeStop | None = None  # the running badge's cancellation
+    def __init__(self, scenario: Callable[[], physics.Scenario]) -> None:
+        self._scenario = scenario
+        self._lock = threading.Lock()
+        self.done: tuple | None = None  # (scenario, markdown, details' markdown) of the last badge
+        self.busy = False
+        self.thread: threading.Thread | None = None
+        self.stop: BadgeStop | None = None  # the running badge's cancellation
 
-    def badge(self, block: bool = False) -> str:
+    def text(self, block: bool = False) -> str:
         """Auto's choice (model, method, error bound against the requested accuracy, and why) and the
         averaged model's validity conditions, as markdown. Computed once per scenario, in a background
         thread (up to 0.4 s for three plane pendulums: the frames go on meanwhile); until it is ready,
         a placeholder. ``block``: wait for it instead."""
-        sc = self.scenario
-        done = self._badge
+        sc = self._scenario()
+        done = self.done
         if done is not None and done[0] is sc:
             return done[1]
         if block:
-            self._badge = (sc, *_badge_text(sc))
-            return self._badge[1]
+            self.done = (sc, *_badge_text(sc))
+            return self.done[1]
         with self._lock:
-            start = not self._badge_busy
-            self._badge_busy = True
+            start = not self.busy
+            self.busy = True
         if start:
-            self._badge_stop = stop = BadgeStop()
-            self._badge_thread = threading.Thread(target=self._badge_worker, args=(sc, stop), name="badge",
-                                                  daemon=True)
-            self._badge_thread.start()
+            self.stop = stop = BadgeStop()
+            self.thread = threading.Thread(target=self._work, args=(sc, stop), name="badge", daemon=True)
+            self.thread.start()
         return "_auto: working out its choice..._"
 
-    def _badge_worker(self, sc: physics.Scenario, stop: BadgeStop) -> None:
+    def _work(self, sc: physics.Scenario, stop: BadgeStop) -> None:
         try:
             text = _badge_text(sc, stop)
             if not stop.is_set():  # a cancelled badge is for a closed tab: nothing to show it to
-                self._badge = (sc, *text)
+                self.done = (sc, *text)
         except BadgeCancelled:
             pass
         finally:
-            self._badge_busy = False  # the next call starts another if the scenario has changed since
+            self.busy = False  # the next call starts another if the scenario has changed since
 
-    def cancel_badge(self) -> None:
+    def cancel(self) -> None:
         """Stop the badge being worked out (its tab closed): the physics call in progress is interrupted and
         no further one starts, so a slow analysis (many plane pendulums) does not keep a core busy."""
-        stop = self._badge_stop
+        stop = self.stop
         if stop is not None:
             stop.set()
 
-    def badge_details(self) -> str:
+    def details(self) -> str:
         """The averaged model's conditions as formulas with their values (the Details folder), once the
         badge of the present scenario is ready; "" until then."""
-        done = self._badge
-        return done[2] if done is not None and done[0] is self.scenario else ""
+        done = self.done
+        return done[2] if done is not None and done[0] is self._scenario() else ""
 
 
 class _Cancelled(Exception):
