@@ -103,5 +103,5 @@ def test_an_overlay_that_is_not_offered_is_refused_and_no_worker_starts(sent, ca
     eng.request("overlay", sent)
     eng.tick(1.0 / FRAME_HZ)
     assert "overlay" in eng.error and "expected one of none, averaged, closed" in eng.error
-    assert eng.overlay_fidelity == "none" and eng._overlay_thread is None
+    assert eng.overlay_fidelity == "none" and eng.prediction.thread is None
     assert "Traceback" not in capfd.readouterr().err  # before, the worker thread died printing one

@@ -79,7 +79,7 @@ class ActionsMixin:
         self.shape = self._shape(self.scenario)
         if self.static_signature() != self._drawn:
             self.scene_changed = True
-        self.sliders_changed = self.plots_changed = self.overlay_dirty = True
+        self.sliders_changed = self.plots_changed = self.prediction.dirty = True
 
     def _reload(self, _value) -> None:
         """The scene as it was loaded, from t = 0: a fault's other way out."""
@@ -160,7 +160,7 @@ class ActionsMixin:
         self.error = ""
         if kept:
             self.log_retune(sc)
-            self.overlay_dirty = True
+            self.prediction.dirty = True
             self.scene_changed = True  # another model may draw other parts (the averaged one has no displacement)
         else:
             self._restarted()
@@ -183,8 +183,8 @@ class ActionsMixin:
     def _overlay(self, value) -> None:
         if not isinstance(value, str) or value not in OVERLAYS:
             raise ValueError(f"overlay {str(value)[:40]!r}: expected one of {', '.join(OVERLAYS)}")
-        self.overlay_fidelity = value
-        self.overlay_dirty = True
+        self.prediction.fidelity = value
+        self.prediction.dirty = True
         self.plots_changed = True
 
     def _polhode(self, value) -> None:

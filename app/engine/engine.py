@@ -41,10 +41,10 @@ from .output import OutputMixin
 from .sphere import MomentumPath
 from .trail import split_advance, thinned
 from .trail import turn_period as cone_turn_period
-from .workers import Badge, OverlayMixin
+from .workers import Badge, Overlay
 
 
-class Engine(ActionsMixin, OutputMixin, OverlayMixin, FrameMixin):
+class Engine(ActionsMixin, OutputMixin, FrameMixin):
     """The simulation of one tab."""
 
     def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
@@ -66,7 +66,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, FrameMixin):
         self.show_sphere = True  # the momentum sphere beside the body (app.scene.sphere_view)
         self.sphere_path = MomentumPath()  # K's direction in body axes over the run (app.engine.sphere)
         self.auto_badge = Badge(lambda: self.scenario)  # auto's choice in words, worked out off the loop thread
-        self._init_overlay()
+        self.prediction = Overlay(self._plots_changed, self._fail)  # the cheaper model's, off the loop thread
         self.error = ""
         self.guard = edits.Guard()  # typed values judged, notes beside sliders, undo (app.engine.edits)
         self.clock = Clock()
@@ -174,8 +174,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, FrameMixin):
         self.K_ref = float(np.linalg.norm(K0)) or 1.0
         self.w_ref = float(np.linalg.norm(self.run.last.omega[0])) or 1.0
         self._record(self.run.last)
-        self.overlay = None
-        self.overlay_dirty = True
+        self.prediction.restart()
         self.clock.restart()
         self.guard.epoch += 1  # buffers start anew: an undo to before this cannot rewind them
         self.scene_changed = self.sliders_changed = self.plots_changed = True
@@ -183,6 +182,40 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, FrameMixin):
         self.edit_dE: float | None = None  # what the last edit did to E (J), shown until the next edit or reset
         self.edit_note = ""  # why the last edit could not keep the state
         restart_compare(self)  # the second run (compare mode) starts again with the first
+
+    # ---- the background workers (app.engine.workers) ------------------------------------------------
+    def _plots_changed(self) -> None:
+        self.plots_changed = True
+
+    def _fail(self, message: str) -> None:
+        self.error = message
+
+    @property
+    def overlay(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The cheaper model's prediction (t, theta) from t = 0, or None (``Overlay.curve``)."""
+        return self.prediction.curve
+
+    @property
+    def overlay_fidelity(self) -> str:
+        return self.prediction.fidelity
+
+    @property
+    def has_overlay(self) -> bool:
+        return self.prediction.curve is not None
+
+    def overlay_title(self) -> str:
+        """The prediction chart's title (``Overlay.title``)."""
+        return self.prediction.title(self.start_scenario, self.edits, self.edit_count)
+
+    def wait_overlay(self, timeout: float = 30.0) -> bool:
+        """Block until the overlay being computed is done (for tests and scripts)."""
+        return self.prediction.wait(timeout)
+
+    def cancel_workers(self) -> None:
+        """The tab closed: a prediction being computed gives up at its next chunk, and the badge's analysis
+        stops, so nothing of a closed tab keeps a core busy."""
+        self.prediction.cancel()
+        self.auto_badge.cancel()
 
     def badge(self, block: bool = False) -> str:
         """Auto's badge as markdown (``Badge.text``): a placeholder until its worker is done, unless ``block``."""
@@ -290,7 +323,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, FrameMixin):
         self.shape = self._shape(sc)
         if self.static_signature() != self._drawn:
             self.scene_changed = True  # redraw the meshes only when what they show has changed
-        self.overlay_dirty = True
+        self.prediction.dirty = True
         if kept:  # the run goes on under other parameters: the plots and the export say so
             self.log_retune(sc)
             self.edit_count += 1
@@ -311,7 +344,7 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, FrameMixin):
         kept = self.run.retune(sc, keep_state=True)
         self._adopt_choices(sc)
         self.shape = self._shape(sc)
-        self.scene_changed = self.overlay_dirty = True
+        self.scene_changed = self.prediction.dirty = True
         if not kept:
             self._restarted()
 
@@ -349,10 +382,11 @@ class Engine(ActionsMixin, OutputMixin, OverlayMixin, FrameMixin):
             self.clock.played(self.run.t - t0, max(wall_dt, 0.0))  # the wall time that passed, unclipped
         else:
             self.clock.paused()
-        if self.overlay is not None and self.run.t > self.overlay[0][-1]:
-            self.overlay_dirty = True  # the run has passed the prediction: predict again from now
-        if self.overlay_dirty:
-            self._compute_overlay()
+        curve = self.prediction.curve
+        if curve is not None and self.run.t > curve[0][-1]:
+            self.prediction.dirty = True  # the run has passed the prediction: predict again from now
+        if self.prediction.dirty:
+            self.prediction.compute(self.start_scenario, self.run.t, self.plot_window())
         self.frames += 1
         try:
             fr = self.frame()

@@ -3,9 +3,9 @@ Each runs in a daemon thread, so a long computation never stalls the frames; a n
 older overlay give up, and the badge is worked out once per scenario. When the tab closes
 (``cancel_workers``) both stop, so nothing of a closed tab keeps a core busy.
 
-Mixed into ``app.engine.engine.Engine``: they read its ``scenario``, ``start_scenario``, ``edits``, ``run`` and
-``plot_window()`` and set its
-``overlay``, ``error`` and ``plots_changed``.
+Each is a plain object the ``app.engine.engine.Engine`` holds (``prediction``, ``auto_badge``), given what it
+reads (the scenario, how far the run has come) and told how to report (the engine's ``error`` and
+``plots_changed``).
 """
 
 from __future__ import annotations
@@ -32,55 +32,66 @@ def _envelope(sc: physics.Scenario, fid: str) -> bool:
     return fid == "closed" and "closed" not in physics.get_system(sc.system).models
 
 
-class OverlayMixin:
-    """The overlay: ``overlay`` is (t, theta) or None; ``overlay_fidelity`` "none", "averaged" or "closed"."""
+class Overlay:
+    """The overlay: ``curve`` is (t, theta) or None; ``fidelity`` "none", "averaged" or "closed"; ``dirty``: a
+    prediction is to be started (at the next tick). ``changed()`` says the plots must be drawn again and
+    ``failed(message)`` reports an error (the engine's ``plots_changed`` and ``error``); both may be called
+    from the worker thread."""
 
-    def _init_overlay(self) -> None:
-        self.overlay_fidelity = "none"
-        self.overlay = None
-        self.overlay_dirty = True
-        self._overlay_thread: threading.Thread | None = None
-        self._overlay_gen = 0
-        self._overlay_key = None  # (fidelity, start scenario) of the prediction shown
+    def __init__(self, changed: Callable[[], None], failed: Callable[[str], None]) -> None:
+        self._changed = changed
+        self._failed = failed
+        self.fidelity = "none"
+        self.curve: tuple[np.ndarray, np.ndarray] | None = None
+        self.dirty = True
+        self.thread: threading.Thread | None = None
+        self._gen = 0
+        self._key = None  # (fidelity, start scenario) of the prediction shown
 
-    def _compute_overlay(self) -> None:
+    def restart(self) -> None:
+        """The run starts anew: no prediction shown until the next one is ready."""
+        self.curve = None
+        self.dirty = True
+
+    def compute(self, start_scenario: physics.Scenario, t: float, window: float) -> None:
         """Start computing the cheaper fidelity's prediction in a background thread: a long prediction must
-        not stall the frames. A newer request cancels an older one.
+        not stall the frames. A newer request cancels an older one. ``t``: how far the run has come (s);
+        ``window``: the plots' window (s).
 
         The prediction starts at t = 0 from the scenario the run began with (``start_scenario``), so it
-        lies on the same axes as the run's whole history; ``overlay_title`` says so, and names the edits
+        lies on the same axes as the run's whole history; ``title`` says so, and names the edits
         the run went on through since. It reaches OVERLAY_WINDOWS times as far as the run has come (at
         least a plot window ahead), so it is computed again only each time the run doubles its t.
         Moving mass and the spherical pendulum: the fidelity's own model; both pendulum systems,
         "closed": linear theory's envelope theta0 exp(-rate t) (MODELS B.4)."""
-        if self._overlay_thread is not None and self._overlay_thread.is_alive():
-            self._overlay_gen += 1  # cancel it; overlay_dirty stays set, so a later tick starts anew
+        if self.thread is not None and self.thread.is_alive():
+            self._gen += 1  # cancel it; dirty stays set, so a later tick starts anew
             return
-        self.overlay_dirty = False
-        fid = self.overlay_fidelity
-        key = (fid, self.start_scenario)
-        if key != self._overlay_key:  # another prediction: the old one must not show meanwhile
-            self.overlay = None
-            self.plots_changed = True
-        elif self.overlay is not None and self.overlay[0][-1] >= self.run.t:
+        self.dirty = False
+        fid = self.fidelity
+        key = (fid, start_scenario)
+        if key != self._key:  # another prediction: the old one must not show meanwhile
+            self.curve = None
+            self._changed()
+        elif self.curve is not None and self.curve[0][-1] >= t:
             return  # an edit that kept the run: the prediction from t = 0 is the same
-        self._overlay_key = key
-        self._overlay_gen += 1
+        self._key = key
+        self._gen += 1
         if fid == "none":
             return
-        sc = self.start_scenario
-        t_end = max(OVERLAY_WINDOWS * self.run.t, self.run.t + self.plot_window(), 1.0)
+        sc = start_scenario
+        t_end = max(OVERLAY_WINDOWS * t, t + window, 1.0)
         envelope = _envelope(sc, fid)
         try:
             if not envelope:
                 sc = sc.with_values(**{"run.t_end": t_end, "run.samples": OVERLAY_SAMPLES})
         except (physics.ScenarioError, ValueError) as exc:
-            self.error = f"overlay ({fid}): {exc}"
+            self._failed(f"overlay ({fid}): {exc}")
             return
-        gen = self._overlay_gen
+        gen = self._gen
 
         def progress(_fraction):
-            if gen != self._overlay_gen:  # chunks between compiled calls: the place to give up
+            if gen != self._gen:  # chunks between compiled calls: the place to give up
                 raise _Cancelled
 
         def work():
@@ -97,50 +108,45 @@ class OverlayMixin:
             except _Cancelled:
                 return
             except (physics.ScenarioError, physics.IntegrationFault, ArithmeticError, ValueError) as exc:
-                if gen == self._overlay_gen:
-                    self.error = f"overlay ({fid}): {exc}"
+                if gen == self._gen:
+                    self._failed(f"overlay ({fid}): {exc}")
                 return
             except Exception as exc:  # noqa: BLE001 - a worker thread must say what failed, never print a traceback
-                if gen == self._overlay_gen:
-                    self.error = f"overlay ({fid}) failed: {type(exc).__name__}: {str(exc)[:200]}"
+                if gen == self._gen:
+                    self._failed(f"overlay ({fid}) failed: {type(exc).__name__}: {str(exc)[:200]}")
                 return
-            if gen == self._overlay_gen:
-                self.overlay = result
-                self.plots_changed = True
+            if gen == self._gen:
+                self.curve = result
+                self._changed()
 
-        self._overlay_thread = threading.Thread(target=work, name="overlay", daemon=True)
-        self._overlay_thread.start()
+        self.thread = threading.Thread(target=work, name="overlay", daemon=True)
+        self.thread.start()
 
-    def overlay_title(self) -> str:
-        """The prediction chart's title: which model, from when, and what the run did that it does not know."""
-        fid = self.overlay_fidelity
-        if _envelope(self.start_scenario, fid):
+    def title(self, start_scenario: physics.Scenario, edits: list[tuple[float, str]], edit_count: int) -> str:
+        """The prediction chart's title: which model, from when, and what the run did that it does not know
+        (``edits``: the first (t, what) of the ``edit_count`` changes the run went on through)."""
+        fid = self.fidelity
+        if _envelope(start_scenario, fid):
             what = "linear theory's envelope"
         else:
             what = f"the {fid} model's prediction"
         title = f"theta and {what} from t = 0"
-        if self.edit_count:
-            t0, names = self.edits[0]
-            more = f" and {self.edit_count - 1} more" if self.edit_count > 1 else ""
+        if edit_count:
+            t0, names = edits[0]
+            more = f" and {edit_count - 1} more" if edit_count > 1 else ""
             title += f", for the scene at t = 0 (edited since: {names} at t = {t0:.4g} s{more})"
         return title
 
-    def cancel_workers(self) -> None:
-        """The tab closed: a prediction being computed gives up at its next chunk, and the badge's analysis
-        stops (``Badge.cancel``)."""
-        self._overlay_gen += 1
-        self.overlay_dirty = False
-        self.auto_badge.cancel()
+    def cancel(self) -> None:
+        """The tab closed: a prediction being computed gives up at its next chunk."""
+        self._gen += 1
+        self.dirty = False
 
-    def wait_overlay(self, timeout: float = 30.0) -> bool:
-        """Block until the overlay being computed is done (for tests and scripts)."""
-        if self._overlay_thread is not None:
-            self._overlay_thread.join(timeout)
-        return self.overlay is not None
-
-    @property
-    def has_overlay(self) -> bool:
-        return self.overlay is not None
+    def wait(self, timeout: float = 30.0) -> bool:
+        """Block until the prediction being computed is done (for tests and scripts)."""
+        if self.thread is not None:
+            self.thread.join(timeout)
+        return self.curve is not None
 
 
 class Badge:
