@@ -18,7 +18,7 @@ import numpy as np
 
 import physics
 
-from . import controls, edits, presets
+from . import controls, edits, output, presets
 from .actions import ActionsMixin, choices_of, system_actions, with_choices
 from .buffers import (
     EDITS_LISTED,
@@ -37,14 +37,13 @@ from .compare import restart_compare
 from .frame import Frame, FrameMixin
 from .geometry import E3, Ring, Shape, align, body_shape
 from .history import DecimatingStore
-from .output import OutputMixin
 from .sphere import MomentumPath
 from .trail import split_advance, thinned
 from .trail import turn_period as cone_turn_period
 from .workers import Badge, Overlay
 
 
-class Engine(ActionsMixin, OutputMixin, FrameMixin):
+class Engine(ActionsMixin, FrameMixin):
     """The simulation of one tab."""
 
     def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
@@ -455,6 +454,33 @@ class Engine(ActionsMixin, OutputMixin, FrameMixin):
         if self.show_polhode:
             self.polhode.extend(self._polhode_points(tr.omega))
         self.plots_changed = True
+
+    # ---- output: the plots' data, the readouts, the exports (app.engine.output) ------------------------
+    def plot_data(self, span: str | None = None) -> tuple[np.ndarray, ...]:
+        """(t, theta, overlay's theta, |K|, E) over the run from t = 0 (``WHOLE_RUN``, thinned to at most
+        WHOLE_RUN_POINTS + 1 rows) or the last PLOT_POINTS rows (``RECENT``); ``span`` defaults to the
+        one the panel chose (``output.plot_data``)."""
+        rows = (self.plot if (span or self.plot_span) == RECENT else self.plot_all).values()
+        return output.plot_data(rows, self.overlay)
+
+    def readouts(self) -> dict[str, str]:
+        """What the panel shows, ``name -> value`` (``output.readouts``)."""
+        return output.readouts(self.run, self.world_wxyz, self.edit_dE, self.edit_note)
+
+    def details(self) -> dict[str, str]:
+        """The model and the raw attitude, for the Details folder (``output.details``)."""
+        return output.details(self.run)
+
+    def csv(self) -> bytes:
+        """The run from t = 0 as CSV (``output.csv``)."""
+        return output.csv(self.history, self.history_columns, self.preset, self.run.t, self.edits_text())
+
+    def edits_text(self) -> str:
+        """The changes the run went on through since t = 0 ("" when none)."""
+        return output.edits_text(self.edits, self.edit_count)
+
+    def toml(self) -> bytes:
+        return self.scenario.to_toml().encode()
 
     def plot_window(self) -> float:
         """Simulated seconds the plots show at the present warp."""

@@ -1,6 +1,7 @@
 """What a tab reads out and exports: the plots' data, the readouts and their details, the trajectory as CSV
-and the scenario as TOML. Mixed into ``app.engine.engine.Engine``; called from the panel and the download buttons
-(the CSV on viser's thread: the stores it reads are locked)."""
+as functions of what they read. ``app.engine.engine.Engine``'s methods of the same names
+call them; the panel and the download buttons call those (the CSV on viser's thread: the stores it reads are
+locked)."""
 
 from __future__ import annotations
 
@@ -11,74 +12,74 @@ import numpy as np
 from physics import qmul
 
 from . import words
-from .buffers import HISTORY_ROWS, RECENT, SAMPLES_PER_FRAME
+from .buffers import HISTORY_ROWS, SAMPLES_PER_FRAME
 from .edit_report import edit_readouts
 
 
-class OutputMixin:
-    # ---- output ----------------------------------------------------------------------------------
-    def plot_data(self, span: str | None = None) -> tuple[np.ndarray, ...]:
-        """(t, theta, overlay's theta, |K|, E) over the run from t = 0 (``WHOLE_RUN``, thinned to at most
-        WHOLE_RUN_POINTS + 1 rows) or the last PLOT_POINTS rows (``RECENT``); ``span`` defaults to the
-        one the panel chose. The overlay predicts from t = 0; where it has no value yet (a run that has
-        gone past the prediction, until the next one is ready) and without an overlay it is theta (the
-        plot hides it). No NaN: uPlot's auto-range would break on them."""
-        rows = (self.plot if (span or self.plot_span) == RECENT else self.plot_all).values()
-        t = rows[:, 0]
-        over = rows[:, 1].copy()
-        if self.overlay is not None and len(t):
-            ot, oth = self.overlay
-            inside = (t >= ot[0]) & (t <= ot[-1])
-            over[inside] = np.interp(t[inside], ot, oth)
-        return t, rows[:, 1], over, rows[:, 2], rows[:, 3]
+def plot_data(rows: np.ndarray, overlay: tuple[np.ndarray, np.ndarray] | None) -> tuple[np.ndarray, ...]:
+    """(t, theta, overlay's theta, |K|, E) of the plot rows ``rows`` (t, theta, |K|, E). The overlay predicts
+    from t = 0; where it has no value yet (a run that has gone past the prediction, until the next one is
+    ready) and without an overlay it is theta (the plot hides it). No NaN: uPlot's auto-range would break on
+    them."""
+    t = rows[:, 0]
+    over = rows[:, 1].copy()
+    if overlay is not None and len(t):
+        ot, oth = overlay
+        inside = (t >= ot[0]) & (t <= ot[-1])
+        over[inside] = np.interp(t[inside], ot, oth)
+    return t, rows[:, 1], over, rows[:, 2], rows[:, 3]
 
-    def readouts(self) -> dict[str, str]:
-        """What the panel shows, ``name -> value`` (app.engine.words says why each is worded so)."""
-        run = self.run
-        d = {"t": f"{run.t:.4g} s", "theta": f"{run.last.theta[0]:.6f} rad", "|K|": f"{run.last.K[0]:.6g} kg m^2/s",
-             "E": f"{run.last.E[0]:.6g} J"}
-        d.update(words.braking_words(run.t, run.remaining_braking_time()))
-        d["fidelity"] = words.fidelity_words(run.fidelity, run.requested == "auto")
-        psi, _, phi = words.euler_angles(qmul(self.world_wxyz, run.last.quat[0]))
-        d["precession psi"] = f"{psi:.4f} rad"
-        d["spin phi"] = f"{phi:.4f} rad"
-        d.update(edit_readouts(self.edit_dE, self.edit_note, float(run.last.E[0])))
-        return d
 
-    def details(self) -> dict[str, str]:
-        """The technical side of the readouts, for the Details folder: the model and the raw attitude."""
-        q = self.run.last.quat[0]
-        return {"model": self.run.model.name, "method": str(self.scenario.run.method),
-                "q (body to inertial, w x y z)": "[" + ", ".join(f"{x:.4f}" for x in q) + "]"}
+def readouts(run, world_wxyz: np.ndarray, edit_dE: float | None, edit_note: str) -> dict[str, str]:
+    """What the panel shows, ``name -> value`` (app.engine.words says why each is worded so): the run's
+    (physics.LiveRun) last state, its attitude in the view whose K of t = 0 points up (``world_wxyz``), and
+    what the last edit did (``edit_dE``, ``edit_note``)."""
+    d = {"t": f"{run.t:.4g} s", "theta": f"{run.last.theta[0]:.6f} rad", "|K|": f"{run.last.K[0]:.6g} kg m^2/s",
+         "E": f"{run.last.E[0]:.6g} J"}
+    d.update(words.braking_words(run.t, run.remaining_braking_time()))
+    d["fidelity"] = words.fidelity_words(run.fidelity, run.requested == "auto")
+    psi, _, phi = words.euler_angles(qmul(world_wxyz, run.last.quat[0]))
+    d["precession psi"] = f"{psi:.4f} rad"
+    d["spin phi"] = f"{phi:.4f} rad"
+    d.update(edit_readouts(edit_dE, edit_note, float(run.last.E[0])))
+    return d
 
-    def csv(self) -> bytes:
-        """The run from t = 0: "#" lines saying what the rows are (all samples, or every n-th of them, and
-        the changes the run went on through), then the column names (t,theta,K,E,...) and the rows."""
-        rows, stride = self.history.snapshot()  # a download's callback thread reads while the loop appends
-        buf = io.StringIO()
-        kept = ("every sample kept" if stride == 1 else
-                f"rows decimated: every {_ordinal(stride)} sample kept, and the last one "
-                f"(at most {HISTORY_ROWS} rows from t = 0)")
-        buf.write(f"# Quasirigid explorer, {self.preset}: t = 0 to {self.run.t:.9g} s, {len(rows)} rows, "
-                  f"{kept}; {SAMPLES_PER_FRAME} samples per frame played\n")
-        if self.edits:
-            buf.write(f"# {self.edits_text()}\n")
-        buf.write(",".join(self.history_columns) + "\n")
-        # repr: the shortest text that reads back to the same double, 4x faster than savetxt's "%.17g" (0.26 s
-        # for 20,000 rows of 19 columns), which matters as the download runs on a thread sharing the GIL
-        buf.writelines(",".join(map(repr, row)) + "\n" for row in rows.tolist())
-        return buf.getvalue().encode()
 
-    def edits_text(self) -> str:
-        """The changes the run went on through since t = 0 ("" when none)."""
-        if not self.edits:
-            return ""
-        shown = "; ".join(f"t = {t:.4g} s: {what}" for t, what in self.edits)
-        more = self.edit_count - len(self.edits)
-        return f"edited since t = 0 ({shown}" + (f"; and {more} more" if more > 0 else "") + ")"
+def details(run) -> dict[str, str]:
+    """The technical side of the readouts, for the Details folder: the model and the raw attitude."""
+    q = run.last.quat[0]
+    return {"model": run.model.name, "method": str(run.scenario.run.method),
+            "q (body to inertial, w x y z)": "[" + ", ".join(f"{x:.4f}" for x in q) + "]"}
 
-    def toml(self) -> bytes:
-        return self.scenario.to_toml().encode()
+
+def csv(history, columns: tuple[str, ...], preset: str, t: float, edits: str) -> bytes:
+    """The run from t = 0 (``history``, an app.engine.history.DecimatingStore of rows named ``columns``): "#"
+    lines saying what the rows are (all samples, or every n-th of them, and the changes the run went on
+    through, ``edits``), then the column names (t,theta,K,E,...) and the rows."""
+    rows, stride = history.snapshot()  # a download's callback thread reads while the loop appends
+    buf = io.StringIO()
+    kept = ("every sample kept" if stride == 1 else
+            f"rows decimated: every {_ordinal(stride)} sample kept, and the last one "
+            f"(at most {HISTORY_ROWS} rows from t = 0)")
+    buf.write(f"# Quasirigid explorer, {preset}: t = 0 to {t:.9g} s, {len(rows)} rows, "
+              f"{kept}; {SAMPLES_PER_FRAME} samples per frame played\n")
+    if edits:
+        buf.write(f"# {edits}\n")
+    buf.write(",".join(columns) + "\n")
+    # repr: the shortest text that reads back to the same double, 4x faster than savetxt's "%.17g" (0.26 s
+    # for 20,000 rows of 19 columns), which matters as the download runs on a thread sharing the GIL
+    buf.writelines(",".join(map(repr, row)) + "\n" for row in rows.tolist())
+    return buf.getvalue().encode()
+
+
+def edits_text(edits: list[tuple[float, str]], edit_count: int) -> str:
+    """The changes the run went on through since t = 0 (the first ``edits``, (t, what), of ``edit_count``;
+    "" when none)."""
+    if not edits:
+        return ""
+    shown = "; ".join(f"t = {t:.4g} s: {what}" for t, what in edits)
+    more = edit_count - len(edits)
+    return f"edited since t = 0 ({shown}" + (f"; and {more} more" if more > 0 else "") + ")"
 
 
 def _ordinal(n: int) -> str:
