@@ -19,7 +19,7 @@ import numpy as np
 import physics
 
 from . import controls, edits, output, presets
-from .actions import ActionsMixin, choices_of, system_actions, with_choices
+from .actions import act, choices_of, system_actions, with_choices
 from .buffers import (
     EDITS_LISTED,
     HISTORY_ROWS,
@@ -43,7 +43,7 @@ from .trail import turn_period as cone_turn_period
 from .workers import Badge, Overlay
 
 
-class Engine(ActionsMixin, FrameMixin):
+class Engine(FrameMixin):
     """The simulation of one tab."""
 
     def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
@@ -260,7 +260,7 @@ class Engine(ActionsMixin, FrameMixin):
             seq = self.change_seq
         try:
             for action, value in actions:
-                self._act(action, value)
+                act(self, action, value)
                 self.guard.interrupt()  # a value after an action starts a new change
             self._apply_guarded(pending)
             if actions or pending:
