@@ -17,8 +17,8 @@ import numpy as np
 import physics
 
 from . import controls, edits
+from . import frame as frames
 from .buffers import PLOT_POINTS, RECENT, SAMPLES_PER_FRAME, TRAIL_POINTS, WHOLE_RUN_POINTS
-from .frame import FrameMixin
 from .geometry import E3, Ring, align
 from .history import DecimatingStore
 
@@ -87,17 +87,14 @@ def second_scenario(engine, diff: Difference) -> physics.Scenario:
     return controls.apply_changes(engine.base, changes).replace(run=sc.run)
 
 
-class Comparison(FrameMixin):
-    """The second run, its plot buffers and what its frame needs (FrameMixin reads ``run``, ``view``,
-    ``world_wxyz``, ``K_ref``, ``w_ref``, ``shape``, ``trail``, ``view_values``)."""
+class Comparison:
+    """The second run, its plot buffers and what its frame needs (``frame``: drawn in the first run's view,
+    with its arrows' scales)."""
 
     def __init__(self, engine, diff: Difference):
         self.diff = diff
-        self.view_values = dict(engine.view_values)  # the first run's, again at each frame (frame_of)
         self.seq = 0
         self.applied_seq = 0
-        self.show_polhode = False
-        self.polhode = Ring(1, 3)
         self.trail = Ring(TRAIL_POINTS, 3)  # kept empty: one trail (the first body's) is enough to read
         self.error = ""  # why the second run could not follow the last edit (it goes on as it was)
         self.restart(engine)
@@ -115,7 +112,7 @@ class Comparison(FrameMixin):
         self.plot = Ring(PLOT_POINTS, 4)
         self.plot_all = DecimatingStore(WHOLE_RUN_POINTS, 4)
         self.shape = engine._shape(self.scenario)
-        K0 = self.momentum()
+        K0 = self.run.momentum()
         self.world_wxyz = align(K0, E3) if np.linalg.norm(K0) > 0 else np.array([1.0, 0, 0, 0])
         self._record(self.run.last)
 
@@ -184,6 +181,14 @@ class Comparison(FrameMixin):
     def scenario(self) -> physics.Scenario:
         return self.run.scenario
 
+    def frame(self, view: str, view_values: dict[str, float], K_ref: float, w_ref: float) -> frames.Frame:
+        """This run's frame in the first run's ``view`` and ``view_values``, its arrows scaled by the first's
+        ``K_ref`` and ``w_ref``."""
+        self.seq += 1
+        return frames.make_frame(self.run, seq=self.seq, applied=self.applied_seq, view=view,
+                                 world_wxyz=self.world_wxyz, K_ref=K_ref, w_ref=w_ref, extent=self.shape.extent,
+                                 view_values=view_values, trail=self.trail.values(), polhode=None)
+
     # ---- what the panel shows --------------------------------------------------------------------
     def series(self, span: str, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(theta, |K|, E) of the second run at the first run's plotted times ``t``; past its end (a fault,
@@ -240,9 +245,7 @@ def undo_compare(engine, snap) -> None:
 def frame_of(engine):
     """The second run's frame (app.engine.frame.Frame), in the first's view and with its arrows' scales, so that
     arrow lengths compare."""
-    c = engine.compare
-    c.view, c.view_values, c.K_ref, c.w_ref = engine.view, engine.view_values, engine.K_ref, engine.w_ref
-    return c.frame()
+    return engine.compare.frame(engine.view, engine.view_values, engine.K_ref, engine.w_ref)
 
 
 def readout_md(engine) -> str:

@@ -3,9 +3,11 @@ and trails read. No viser here: headless tests drive it directly.
 
 Threads: GUI callbacks call ``request_value`` and ``request``, which only record under a lock; the
 session's loop thread calls ``tick``, which applies them (each action through ``ACTIONS``) and advances
-the run as far as the clock (``app.engine.clock``) allows. Mixed in: the actions (``app.engine.actions``), what the
-panel reads out and exports (``app.engine.output``), the frame (``app.engine.frame``) and the background workers
-(``app.engine.workers``: overlay and badge).
+the run as far as the clock (``app.engine.clock``) allows. The engine holds its collaborators and hands each
+what it reads: the background workers are objects with their own state (``prediction``, an
+``app.engine.workers.Overlay``; ``auto_badge``, a ``Badge``); the actions (``app.engine.actions.act``), what the
+panel reads out and exports (``app.engine.output``) and the frame (``app.engine.frame``) are functions, called by
+the engine's methods of the same names.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import numpy as np
 import physics
 
 from . import controls, edits, output, presets
+from . import frame as frames
 from .actions import act, choices_of, system_actions, with_choices
 from .buffers import (
     EDITS_LISTED,
@@ -34,7 +37,7 @@ from .buffers import (
 )
 from .clock import DEFAULT_WARP, FRAME_HZ, Clock
 from .compare import restart_compare
-from .frame import Frame, FrameMixin
+from .frame import Frame
 from .geometry import E3, Ring, Shape, align, body_shape
 from .history import DecimatingStore
 from .sphere import MomentumPath
@@ -43,7 +46,7 @@ from .trail import turn_period as cone_turn_period
 from .workers import Badge, Overlay
 
 
-class Engine(FrameMixin):
+class Engine:
     """The simulation of one tab."""
 
     def __init__(self, scenario: physics.Scenario | None = None, preset: str = presets.DEFAULT, mesh=None):
@@ -223,6 +226,32 @@ class Engine(FrameMixin):
     def badge_details(self) -> str:
         """The badge's conditions as formulas (``Badge.details``); "" until the badge is ready."""
         return self.auto_badge.details()
+
+    # ---- the frame (app.engine.frame) ---------------------------------------------------------------
+    def frame(self) -> Frame:
+        """What the next published frame shows, from the run's last state."""
+        self.seq += 1
+        return frames.make_frame(self.run, seq=self.seq, applied=self.applied_seq, view=self.view,
+                                 world_wxyz=self.world_wxyz, K_ref=self.K_ref, w_ref=self.w_ref,
+                                 extent=self.shape.extent, view_values=self.view_values, trail=self.trail.values(),
+                                 polhode=self.polhode.values() if self.show_polhode else None)
+
+    def frame_figure(self) -> tuple:
+        """The system's picture of the run's last state (physics.figure primitives, body frame, m)."""
+        return frames.figure(self.run, self.shape.extent, self.view_values)
+
+    def ellipsoid(self) -> np.ndarray:
+        """The drawn inertia ellipsoid's semi-axes (m)."""
+        return frames.ellipsoid(self.scenario.body, self.shape.extent)
+
+    def momentum(self) -> np.ndarray:
+        """Inertial total angular momentum now (kg m^2/s); a closed form's is fixed along its start's G, turned
+        by where an edit restarted it (physics.LiveRun.momentum)."""
+        return self.run.momentum()
+
+    def _trail_point(self, q: np.ndarray) -> np.ndarray:
+        """Inertial view: the tip of the symmetry axis; body view: the direction of K in the body."""
+        return frames.trail_point(q, self.view, self.world_wxyz, self.momentum())
 
     def static_signature(self) -> tuple:
         """What the static meshes depend on: the body, its ellipsoid and the system's figure's static part with
@@ -452,7 +481,7 @@ class Engine(FrameMixin):
         if trail_too:
             self._extend_trail(tr)
         if self.show_polhode:
-            self.polhode.extend(self._polhode_points(tr.omega))
+            self.polhode.extend(frames.polhode_points(self.scenario.body, self.shape.extent, tr.omega))
         self.plots_changed = True
 
     # ---- output: the plots' data, the readouts, the exports (app.engine.output) ------------------------

@@ -1,7 +1,7 @@
 """What one published frame shows (``Frame``), and how the engine makes it from the run's last state:
 the body's attitude, K, omega and e3 as arrows, the internal parts (the system's own figure, physics.figure),
-the e3 trail and the polhode, in the inertial view (K of t = 0 pointing up) or the body view. Mixed into
-``app.engine.Engine``.
+the e3 trail and the polhode, in the inertial view (K of t = 0 pointing up) or the body view. Functions of what
+they read, called by ``app.engine.Engine`` and ``app.engine.compare.Comparison`` (each makes its own frames).
 """
 
 from __future__ import annotations
@@ -49,82 +49,80 @@ class Frame:
         return tuple(p for p in self.figure if p.role == role)
 
 
-class FrameMixin:
-    """Reads the engine's ``run``, ``scenario``, ``view``, ``world_wxyz``, ``K_ref``, ``w_ref``, ``shape``,
-    ``trail``, ``polhode`` and ``view_values``."""
+def figure_view(extent: float, view_values: dict[str, float]) -> physics.figure.View:
+    """What the system's figure is drawn with: the body's drawn size (m) and the view actions' values."""
+    return physics.figure.View(extent=extent, **view_values)
 
-    def figure_view(self) -> physics.figure.View:
-        """What the system's figure is drawn with: the body's drawn size and the view actions' values."""
-        return physics.figure.View(extent=self.shape.extent, **self.view_values)
 
-    def frame_figure(self) -> tuple:
-        """The system's picture of the run's last state (physics.figure primitives, body frame, m)."""
-        sc = self.scenario
-        state = physics.figure.row_state(self.run.last.internal, 0)
-        return tuple(physics.get_system(sc.system).figure(sc, state, self.figure_view()))
+def figure(run: physics.LiveRun, extent: float, view_values: dict[str, float]) -> tuple:
+    """The system's picture of the run's last state (physics.figure primitives, body frame, m)."""
+    sc = run.scenario
+    state = physics.figure.row_state(run.last.internal, 0)
+    return tuple(physics.get_system(sc.system).figure(sc, state, figure_view(extent, view_values)))
 
-    def frame(self) -> Frame:
-        run = self.run
-        last = run.last
-        q = last.quat[0]
-        K = self.momentum()
-        w_in = rotate(q, last.omega[0])
-        axis = rotate(q, E3)
-        torque = None
-        if run.b > 0 and not run.ended:
-            n = np.linalg.norm(K)
-            torque = -run.b * K / n if n > 0 else None
-        if self.view == "body":
-            turn = np.array([q[0], -q[1], -q[2], -q[3]])  # inertial -> body components
-            body_wxyz = np.array([1.0, 0, 0, 0])
-            world = np.array([1.0, 0, 0, 0])
-        else:
-            turn = self.world_wxyz  # inertial -> the view with the initial K up
-            body_wxyz = qmul(self.world_wxyz, q)
-            world = self.world_wxyz
 
-        def to_scene(v):
-            return rotate(turn, v)
-        size = self.shape.extent
-        self.seq += 1
-        fr = Frame(seq=self.seq, t=run.t, theta=float(last.theta[0]), K=float(last.K[0]), E=float(last.E[0]),
-                   body_wxyz=body_wxyz, world_wxyz=world,
-                   K_vec=to_scene(K) / self.K_ref * 1.0 * size,
-                   omega_vec=to_scene(w_in) / self.w_ref * 0.9 * size,
-                   axis_vec=to_scene(axis) * 0.9 * size,
-                   torque_vec=None if torque is None else to_scene(torque) / (np.linalg.norm(torque)) * 0.6 * size,
-                   status=run.status, message=run.message, applied=self.applied_seq)
-        fr.figure = self.frame_figure()
-        fr.trail = self.trail.values() * 0.9 * size  # the e3 arrow's tip draws it
-        if self.show_polhode:
-            fr.polhode = self.polhode.values()
-        return fr
-
-    def ellipsoid(self) -> np.ndarray:
-        b = self.scenario.body
-        return ellipsoid_axes(b.A, b.B, b.C, 0.6 * self.shape.extent)
-
-    def _polhode_points(self, omega: np.ndarray) -> np.ndarray:
-        """omega (n, 3, body components) scaled onto the drawn inertia ellipsoid w.J w = const: the
-        polhode (Poinsot). The ellipsoid's semi-axes are size/sqrt(I_k) times sqrt(min I)."""
-        b = self.scenario.body
-        J = np.array([b.A, b.B, b.C])
-        w = np.atleast_2d(omega)
-        n = np.sqrt(np.maximum(np.einsum("ij,j,ij->i", w, J, w), 1e-300))[:, None]
-        return w / n * (0.6 * self.shape.extent * math.sqrt(J.min()))
-
-    def _trail_point(self, q: np.ndarray) -> np.ndarray:
-        """Inertial view: the tip of the symmetry axis; body view: the direction of K in the body."""
-        if self.view == "body":
-            return rotate(np.array([q[0], -q[1], -q[2], -q[3]]), self.momentum_dir())
-        return rotate(self.world_wxyz, rotate(q, E3))
-
-    def momentum(self) -> np.ndarray:
-        """Inertial total angular momentum now (kg m^2/s); a closed form's is fixed along its start's G, turned
-        by where an edit restarted it (physics.LiveRun.momentum)."""
-        return self.run.momentum()
-
-    def momentum_dir(self) -> np.ndarray:
-        K = self.momentum()
+def make_frame(run: physics.LiveRun, *, seq: int, applied: int, view: str, world_wxyz: np.ndarray, K_ref: float,
+               w_ref: float, extent: float, view_values: dict[str, float], trail: np.ndarray,
+               polhode: np.ndarray | None) -> Frame:
+    """The frame of the run's last state: in the ``view`` "body" or the inertial one turned by ``world_wxyz``
+    (K of t = 0 up), K and omega scaled by ``K_ref`` and ``w_ref``, arrows and parts sized by the body's drawn
+    ``extent`` (m); ``trail``: the e3 trail's unit points; ``polhode``: shown, or None."""
+    last = run.last
+    q = last.quat[0]
+    K = run.momentum()
+    w_in = rotate(q, last.omega[0])
+    axis = rotate(q, E3)
+    torque = None
+    if run.b > 0 and not run.ended:
         n = np.linalg.norm(K)
-        return K / n if n > 0 else E3
+        torque = -run.b * K / n if n > 0 else None
+    if view == "body":
+        turn = np.array([q[0], -q[1], -q[2], -q[3]])  # inertial -> body components
+        body_wxyz = np.array([1.0, 0, 0, 0])
+        world = np.array([1.0, 0, 0, 0])
+    else:
+        turn = world_wxyz  # inertial -> the view with the initial K up
+        body_wxyz = qmul(world_wxyz, q)
+        world = world_wxyz
+
+    def to_scene(v):
+        return rotate(turn, v)
+    size = extent
+    fr = Frame(seq=seq, t=run.t, theta=float(last.theta[0]), K=float(last.K[0]), E=float(last.E[0]),
+               body_wxyz=body_wxyz, world_wxyz=world,
+               K_vec=to_scene(K) / K_ref * 1.0 * size,
+               omega_vec=to_scene(w_in) / w_ref * 0.9 * size,
+               axis_vec=to_scene(axis) * 0.9 * size,
+               torque_vec=None if torque is None else to_scene(torque) / (np.linalg.norm(torque)) * 0.6 * size,
+               status=run.status, message=run.message, applied=applied)
+    fr.figure = figure(run, extent, view_values)
+    fr.trail = trail * 0.9 * size  # the e3 arrow's tip draws it
+    fr.polhode = polhode
+    return fr
+
+
+def ellipsoid(body, extent: float) -> np.ndarray:
+    """The drawn inertia ellipsoid's semi-axes (m) for ``body`` (A, B, C) drawn ``extent`` across."""
+    return ellipsoid_axes(body.A, body.B, body.C, 0.6 * extent)
+
+
+def polhode_points(body, extent: float, omega: np.ndarray) -> np.ndarray:
+    """omega (n, 3, body components) scaled onto the drawn inertia ellipsoid w.J w = const: the
+    polhode (Poinsot). The ellipsoid's semi-axes are size/sqrt(I_k) times sqrt(min I)."""
+    J = np.array([body.A, body.B, body.C])
+    w = np.atleast_2d(omega)
+    n = np.sqrt(np.maximum(np.einsum("ij,j,ij->i", w, J, w), 1e-300))[:, None]
+    return w / n * (0.6 * extent * math.sqrt(J.min()))
+
+
+def trail_point(q: np.ndarray, view: str, world_wxyz: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """Inertial view: the tip of the symmetry axis; body view: the direction of K (inertial) in the body."""
+    if view == "body":
+        return rotate(np.array([q[0], -q[1], -q[2], -q[3]]), direction(K))
+    return rotate(world_wxyz, rotate(q, E3))
+
+
+def direction(K: np.ndarray) -> np.ndarray:
+    """K's unit vector (E3 for K = 0)."""
+    n = np.linalg.norm(K)
+    return K / n if n > 0 else E3
