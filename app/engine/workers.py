@@ -63,7 +63,7 @@ class Overlay:
         the run went on through since. It reaches OVERLAY_WINDOWS times as far as the run has come (at
         least a plot window ahead), so it is computed again only each time the run doubles its t.
         Moving mass and the spherical pendulum: the fidelity's own model; both pendulum systems,
-        "closed": linear theory's envelope theta0 exp(-rate t) (MODELS B.4)."""
+        "closed": linear theory's envelope theta0 exp(-rate t) (docs/models.md B.4)."""
         if self.thread is not None and self.thread.is_alive():
             self._gen += 1  # cancel it; dirty stays set, so a later tick starts anew
             return
