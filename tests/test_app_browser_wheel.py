@@ -7,58 +7,36 @@ The server runs in this process so the test can hide the wheel's scene node and 
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pytest
 from test_app_browser import (
-    UI_TIMEOUT,
     browser,  # noqa: F401 (a fixture)
     read,
     wait_until,
 )
-from test_app_browser_scene import FIXED_DPR, LEGEND_JS, PIXEL_TOL, canvas_png, choose_until, click
+from test_app_browser_scene import (  # the scene module's server and page, one of each for this module
+    PIXEL_TOL,
+    app,  # noqa: F401 (a fixture)
+    canvas_png,
+    choose_until,
+    click,
+    legend,
+    page,  # noqa: F401 (a fixture)
+)
 
 import physics
 from app.scene.legend import FIGURE_COLORS
 
 pytestmark = pytest.mark.browser
 WHEEL = "Viscous wheel damper"  # the wheel system's label, offered in the System dropdown
-# px: the wheel is a ring of line segments 0.25 of the body's extent in radius, not a filled solid, so it covers
-# far fewer pixels than a hidden body (test_app_browser_scene's 800): hiding it at t = 0 changed 255 pixels at
-# 1400x900 (2026-11-26), and one drawn edge-on would still change its axle-long line
+# px: the wheel is a translucent disk 0.25 of the body's extent in radius inside the translucent body, so it
+# changes far fewer pixels than a hidden body (test_app_browser_scene's 800): hiding it at t = 0 changed 255
+# pixels at 1400x900 when it was a bare ring (2026-11-26), and one drawn edge-on still changes its axle's line
 MIN_CHANGED = 150
 
 
-@pytest.fixture(scope="module")
-def app():
-    from app.serve.server import App, warm_up
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        a = App(port=0)
-        warm_up()
-    yield a
-    a.close()
-
-
-@pytest.fixture(scope="module")
-def page(browser, app):  # noqa: F811
-    pg = browser.new_page(viewport={"width": 1400, "height": 900})
-    pg.set_default_timeout(UI_TIMEOUT)
-    pg.goto(f"http://127.0.0.1:{app.port}/{FIXED_DPR}")
-    pg.wait_for_selector("canvas")
-    wait_until(pg, lambda: read(pg, "fidelity").startswith("full"), "the session's first readouts")
-    wait_until(pg, lambda: legend(pg), "the legend", timeout_ms=UI_TIMEOUT)
-    yield pg
-    pg.close()
-
-
-def legend(page) -> str:
-    return page.evaluate(LEGEND_JS)
-
-
-def session(app):
+def session(app):  # noqa: F811
     (s,) = app.sessions.values()  # the module's one tab
     return s
 
@@ -71,7 +49,7 @@ def wheel_label(scenario) -> str:
     return disks[0].label
 
 
-def test_the_wheel_damper_draws_its_wheel_and_names_it_in_the_legend(page, app):
+def test_the_wheel_damper_draws_its_wheel_and_names_it_in_the_legend(page, app):  # noqa: F811
     choose_until(page, "System", WHEEL, lambda: session(app).engine.scenario.system == "wheel",
                  "the wheel system chosen")
     label = wheel_label(session(app).engine.scenario)
