@@ -86,3 +86,25 @@ def test_auto_runs_the_closed_form_where_its_estimate_meets_the_accuracy():
     strict = small.with_values(**{"run.accuracy": d["closed_error_bound"] / 2})
     assert physics.derived(strict)["auto_fidelity"] == "full"  # asked for more than the estimate promises
     assert actual(small.with_values(**{"run.rtol": 1e-11})) <= d["closed_error_bound"]
+
+
+def test_the_check_study_quoted_in_the_docs_is_what_its_results_file_holds():
+    """docs/models.md C.4 quotes `python -m bench fidelity --system wheel --n 60 --seed 15`: the table row and the
+    auto sentence are recomputed from bench/results/fidelity_wheel.csv (a rerun that changes them fails here)."""
+    import csv
+    import re
+    import statistics
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    rows = list(csv.DictReader((root / "bench/results/fidelity_wheel.csv").open()))
+    claimed = [r for r in rows if r["estimate"] not in ("", "nan", "None") and math.isfinite(float(r["estimate"]))]
+    ratios = [float(r["actual_error"]) / float(r["estimate"]) for r in claimed]
+    over = statistics.median(float(r["estimate"]) / float(r["actual_error"]) for r in claimed)
+    picked = [r for r in rows if r["auto_0.001"] == "closed"]
+    assert all(float(r["actual_error"]) <= 1e-3 for r in picked)
+    text = (root / "docs/models.md").read_text()
+    row = f"| wheel / closed | {len(rows)} | {len(claimed)} | {max(ratios):.2f} | {over:.1f} |"
+    assert row in text, row
+    said = re.search(r"auto picks the closed form in (\d+) of the (\d+), all within it", text)
+    assert said and (int(said[1]), int(said[2])) == (len(picked), len(rows))
