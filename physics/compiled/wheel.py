@@ -25,6 +25,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .attitude import quaternion_rate
+
 NY = 10
 NP = 8
 
@@ -62,11 +64,7 @@ def rhs(t, y, p, out):
     out[2] = u3 + s * g3
     out[3] = Om
     out[4] = -torque / J - (a1 * out[0] + a2 * out[1] + a3 * out[2])
-    qw, qx, qy, qz = y[5], y[6], y[7], y[8]
-    out[5] = -0.5 * (qx * w1 + qy * w2 + qz * w3)
-    out[6] = 0.5 * (qw * w1 + qy * w3 - qz * w2)
-    out[7] = 0.5 * (qw * w2 + qz * w1 - qx * w3)
-    out[8] = 0.5 * (qw * w3 + qx * w2 - qy * w1)
+    quaternion_rate(y, 5, w1, w2, w3, out)
     out[9] = torque * Om
 
 
