@@ -118,3 +118,28 @@ def test_the_choices_a_slider_change_keeps_are_built_once_not_per_change(monkeyp
     monkeypatch.undo()
     assert built["Scenario"] == 1
     assert eng.scenario.run.fidelity == "averaged" and eng.scenario.mass.m == 0.22
+
+
+def test_a_playing_tick_asks_the_model_for_its_momentum_twice_however_many_samples_it_draws(monkeypatch):
+    """The trail's points of a frame's samples share one K (the frame's): asking the model's invariants once per
+    sample cost 6 calls a tick at 4 samples, half the tick's time on the default scene."""
+    eng = _warm_engine(0.2)
+    eng.playing = True
+    counted = Counter()
+    run_type = type(eng.run)
+    momentum = run_type.momentum
+
+    def counted_momentum(self):
+        counted["momentum"] += 1
+        return momentum(self)
+
+    monkeypatch.setattr(run_type, "momentum", counted_momentum)
+    for warp in (1.0, 1e4):  # 1e4: the frame's last turns are sampled densely for the trail (app.engine.trail)
+        eng.warp = warp
+        eng.tick(FRAME_S)
+        counted.clear()
+        ticks_before, samples_before = eng.frames, eng.plot_all.appended
+        for _ in range(10):
+            eng.tick(FRAME_S)
+        assert eng.frames - ticks_before == 10 and eng.plot_all.appended - samples_before >= 30, warp  # it drew samples
+        assert counted["momentum"] <= 2 * 10, (warp, counted)

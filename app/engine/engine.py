@@ -468,9 +468,9 @@ class Engine:
         return cone_turn_period(b.A, b.B, float(last.K[0]), float(np.linalg.norm(last.omega[0])))
 
     def _extend_trail(self, tr: physics.Trajectory) -> None:
-        for q in tr.quat:
-            self.trail.extend(self._trail_point(q))
-        self.sphere_path.extend(tr.quat, self.momentum())  # the same samples: a path that joins up at any warp
+        K = self.momentum()  # once a frame: the model's invariants cost more than the turns below
+        self.trail.extend(frames.trail_points(tr.quat, self.view, self.world_wxyz, K))
+        self.sphere_path.extend(tr.quat, K)  # the same samples: a path that joins up at any warp
 
     def _record(self, tr: physics.Trajectory, trail_too: bool = True) -> None:
         rows = np.column_stack([tr.t, tr.theta, tr.K, tr.E])

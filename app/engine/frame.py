@@ -115,11 +115,18 @@ def polhode_points(body, extent: float, omega: np.ndarray) -> np.ndarray:
     return w / n * (0.6 * extent * math.sqrt(J.min()))
 
 
-def trail_point(q: np.ndarray, view: str, world_wxyz: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """Inertial view: the tip of the symmetry axis; body view: the direction of K (inertial) in the body."""
+def trail_points(quats: np.ndarray, view: str, world_wxyz: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """(n, 3) for attitudes (n, 4): inertial view, the tip of the symmetry axis; body view, the direction of K
+    (inertial, the same for every sample of a frame) in the body. One array operation for a frame's samples."""
+    q = np.atleast_2d(quats)
     if view == "body":
-        return rotate(np.array([q[0], -q[1], -q[2], -q[3]]), direction(K))
-    return rotate(world_wxyz, rotate(q, E3))
+        return rotate(q * np.array([1.0, -1.0, -1.0, -1.0]), np.broadcast_to(direction(K), (len(q), 3)))
+    return rotate(world_wxyz, rotate(q, np.broadcast_to(E3, (len(q), 3))))
+
+
+def trail_point(q: np.ndarray, view: str, world_wxyz: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """``trail_points`` of one attitude (4,): (3,)."""
+    return trail_points(np.asarray(q)[None], view, world_wxyz, K)[0]
 
 
 def direction(K: np.ndarray) -> np.ndarray:
