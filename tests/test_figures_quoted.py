@@ -30,6 +30,7 @@ WORK = "bench/results/work_precision.csv"
 SCALING = "bench/results/sweep_scaling.csv"
 SWEEP = "img/sweep_pendulum_k_cd.csv"  # named from docs/, as the page links it
 SOAK = "bench/results/soak_60min.json"
+UNPACED, PACED = "bench/results/load_10x20s_before_pace.json", "bench/results/load_10x20s_paced.json"
 REL = "docs/reliability.md"
 PERF = "docs/performance.md"  # the benchmarks' figures (the README quoted them until issue 22)
 LOAD = "bench/results/load_10x5.json"  # python -m bench load --clients 10 --minutes 5 --warmup 20 --out ...
@@ -51,6 +52,12 @@ def col(name: str, key: str, **where) -> list[float]:
 
 def median(name, key, **where):
     return statistics.median(col(name, key, **where))
+
+
+def delivered(path: str, key: str) -> float:
+    """A short load run's frames over its ten clients: "published", "received" (sums) or "worst" (fraction)."""
+    rows = json.loads((ROOT / path).read_text())["delivered"]
+    return min(r["fraction"] for r in rows) if key == "worst" else sum(r[key] for r in rows)
 
 
 def soak(key: str) -> float:
@@ -399,6 +406,13 @@ FIGURES = [
      lambda: scaling("heavy", "fork", "1", "wall2_s")),
     ("docs/sweeps.md", r"the heavy sweep on fork took [\d.]+ s against [\d.]+ s \((\d+\.\d+)x\) in this run", SCALING,
      lambda: scaling("heavy", "fork", "1", "wall2_s") / scaling("heavy", "fork", "2", "wall2_s")),
+    # pacing a crowd of tabs (app/serve/pace.py): ten clients for 20 s before and after
+    (REL, r"ten tabs were published ([\d,]+) frames in", UNPACED, lambda: delivered(UNPACED, "published")),
+    (REL, r"20 s and received ([\d,]+) of them", UNPACED, lambda: delivered(UNPACED, "received")),
+    (REL, r"\(worst client (\d+) %: viser", UNPACED, lambda: 100 * delivered(UNPACED, "worst")),
+    (REL, r"paced, they were published ([\d,]+) and", PACED, lambda: delivered(PACED, "published")),
+    (REL, r"paced, they were published [\d,]+ and received ([\d,]+)", PACED, lambda: delivered(PACED, "received")),
+    (REL, r"\(worst (\d+) %, 15 frames", PACED, lambda: 100 * delivered(PACED, "worst")),
     # the hour's soak (python -m bench soak --minutes 60)
     ("docs/reliability.md", r"RSS went from (\d+\.\d+) MB after the 2-minute warm-up", SOAK,
      lambda: soak("rss_mb_after_warmup")),

@@ -14,14 +14,13 @@ import viser
 
 import physics
 
-from ..engine.clock import FRAME_HZ, PLOT_HZ
+from ..engine.clock import PLOT_HZ
 from ..engine.engine import Engine
 from ..panel.panel import Panel
 from ..scene.drawing import Drawing
+from .pace import Pace
 from .upload_cap import cap_streamed_uploads
 
-CROWD = 4  # tabs on one server beyond which each gets CROWD_HZ frames per second instead of FRAME_HZ
-CROWD_HZ = 40.0  # still smooth, and ten tabs fit one core's worth of Python (docs/reliability.md)
 CROWD_PLOT_HZ = 5.0  # plots, readouts and trails of a crowd: their arrays are the heavy part of a frame
 
 
@@ -43,6 +42,7 @@ class Session:
         self.published = 0
         self.first_frame_after: dict[int, float] = {}  # change seq -> latency (s) of its first frame
         self.frame_ms: deque = deque(maxlen=600)  # (tick, publish) wall ms of recent frames
+        self.pace = Pace()  # how often to publish, from what a frame costs and how many tabs there are
         # a server started on a scenario or mesh of its own shows that, not the browser's last scene
         self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None)
         cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
@@ -64,16 +64,18 @@ class Session:
         while not self.stop.is_set():
             now = time.perf_counter()
             dt, last = now - last, now
+            cpu = time.thread_time()
+            tabs = self.stats.get("sessions", 1)
             try:
                 fr = self.engine.tick(dt)
                 ticked = time.perf_counter()
                 plots_now = now >= next_plot
                 if plots_now:
-                    crowded = self.stats.get("sessions", 1) > CROWD
-                    next_plot = now + 1.0 / (CROWD_PLOT_HZ if crowded else PLOT_HZ)
+                    next_plot = now + 1.0 / (CROWD_PLOT_HZ if self.pace.crowded(tabs) else PLOT_HZ)
                 self._publish(fr, plots_now)
                 self.frame_ms.append((1e3 * (ticked - now), 1e3 * (time.perf_counter() - ticked)))
                 self.published += 1
+                self.pace.spent(time.thread_time() - cpu)
                 self.stats["frames"] = self.stats.get("frames", 0) + 1
                 done = time.perf_counter()
                 for seq, t0 in list(self.engine.change_times.items()):
@@ -87,7 +89,7 @@ class Session:
                 traceback.print_exc()
                 time.sleep(0.2)
             # a fixed schedule, so the rate does not drift; many tabs share the GIL, so a crowd gets fewer frames
-            deadline += 1.0 / (FRAME_HZ if self.stats.get("sessions", 1) <= CROWD else CROWD_HZ)
+            deadline += 1.0 / self.pace.hz(tabs)
             sleep = deadline - time.perf_counter()
             if sleep > 0:
                 self.stop.wait(sleep)
