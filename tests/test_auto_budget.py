@@ -90,3 +90,15 @@ def test_a_closed_form_costs_no_steps_and_a_fixed_step_its_count():
     assert estimated_steps(sc, "closed") == 0.0
     fixed = sc.with_values(**{"run.method": "RK4", "run.dt": 0.01})
     assert estimated_steps(fixed, "full") == math.ceil(sc.run.t_end / 0.01)
+
+
+def test_while_the_kernels_build_there_is_no_probe_and_nothing_is_kept(monkeypatch):
+    """The interpreted probe would stall a slider for seconds: no estimate then, and auto's own pick stands."""
+    from physics.systems import cost
+
+    sc = _load("quadratic_friction.toml").with_values(**{"run.samples": 1234})  # a scenario not yet cached
+    monkeypatch.setattr(cost, "compiled_ready", lambda: False)
+    assert estimated_steps(sc, "full") is None and estimated_steps(sc, "closed") == 0.0
+    assert choose(sc).fidelity == "full"
+    monkeypatch.setattr(cost, "compiled_ready", lambda: True)
+    assert estimated_steps(sc, "full") > MAX_STEPS  # the None was not kept

@@ -10,9 +10,13 @@ fast time scales of these models (the spring's Omega, the spin, the pendulum's s
 parameters and |G|, which dissipation only lowers. A problem too stiff for DOP853 shows the same way: its step
 is held at the stability limit from the first steps, and its estimate is the count it would never finish.
 
-The probe calls the integrator directly (as the studies do), the compiled one or, while the compiled kernels are
-being built, its interpreted twin (``physics.kernels.build.pick``): a few hundred steps, milliseconds compiled.
-Estimates are cached per (scenario, fidelity): the explorer asks on every slider change.
+The probe calls the compiled integrator directly (as the studies do): a few hundred steps, milliseconds. While
+the compiled kernels are being built (the explorer's first minute, ``physics.kernels.build``) only the
+interpreted twin runs, at 1-2 s a probe: too slow for a slider, and a shorter probe reads the pace up to 3.4x low
+(measured with 40 steps on the shipped scenarios), so there is no estimate then (None, not kept; auto's pick
+stands, as it did before it knew costs; the command line never builds in the background, so it always has one).
+Nor is there one for a model with a Python right-hand side (``Model.py_rhs``), which only the interpreted
+integrator steps. Estimates are cached per (scenario, fidelity): the explorer asks on every slider change.
 """
 
 from __future__ import annotations
@@ -24,7 +28,7 @@ import numpy as np
 
 from physics.compiled import dispatch, dop853
 from physics.core.tolerance import atol_for
-from physics.kernels.build import pick
+from physics.kernels.build import compiled_ready
 from physics.registry import get_model
 from physics.scenario.params import FIXED_STEP_METHODS
 
@@ -39,7 +43,10 @@ def brake_and_medium(sc) -> tuple[float, float]:
 
 def estimated_steps(sc, fidelity: str) -> float | None:
     """The steps the model of ``fidelity`` takes over [0, run.t_end] of ``sc`` (module docstring): 0 for a
-    closed form, None where the probe cannot tell (it ended in a fault, which the run itself will report)."""
+    closed form, None where the probe cannot tell (it ended in a fault, which the run itself will report) or
+    cannot run fast (the compiled kernels are being built; a Python right-hand side)."""
+    if not compiled_ready():  # not kept: once the kernels are built, the probe answers
+        return _estimate(sc, fidelity)
     try:
         return _cached(sc, fidelity)
     except TypeError:  # a scenario that cannot be hashed (an array in it): estimated afresh
@@ -58,6 +65,8 @@ def _estimate(sc, fidelity: str) -> float | None:
     t_end = float(sc.run.t_end)
     if sc.run.method in FIXED_STEP_METHODS and sc.run.dt is not None:
         return float(math.ceil(t_end / float(sc.run.dt)))
+    if model.py_rhs is not None or not compiled_ready():
+        return None
     steps = _probe(model, sc, t_end)
     outputs = len(sc.run.t_eval) if sc.run.t_eval is not None else sc.run.samples
     return None if steps is None else steps + outputs
@@ -69,19 +78,13 @@ def _probe(model, sc, t_end: float) -> float | None:
     rtol = float(sc.run.rtol)
     atol = atol_for(rtol, y0)
     b, lam = brake_and_medium(sc)
-    if model.py_rhs is not None:
-        from physics.kernels.py_kernels import integrators
-
-        integrate, G0 = integrators(model)[0], 1.0
-    else:
-        integrate = pick(dop853.integrate)
-        G0 = float(pick(dispatch.braking_norm)(model.kernel, y0, p)) if b > 0 else 1.0
+    G0 = float(dispatch.braking_norm(model.kernel, y0, p)) if b > 0 else 1.0
     half = PROBE_STEPS // 2
     t, y, h, steps = 0.0, y0, 0.0, 0
     for _ in range(2):
         t_from = t
-        _, _, status, t, y, _, n, h = integrate(model.kernel, y, p, np.array([t, t_end]), rtol, atol, b, lam, half,
-                                                h, G0)
+        span = np.array([t, t_end])
+        _, _, status, t, y, _, n, h = dop853.integrate(model.kernel, y, p, span, rtol, atol, b, lam, half, h, G0)
         t, steps = float(t), steps + int(n)
         if status in (dop853.OK, dop853.BRAKED):
             return float(steps)
