@@ -14,6 +14,7 @@ import numpy as np
 
 from physics.compiled import fixed  # noqa: F401 - tests replace fixed.run through this module's name
 from physics.core.blame import guarded
+from physics.core.budget import MAX_STEPS
 from physics.core.errors import ScenarioError
 from physics.core.trajectory import Trajectory
 from physics.registry import Model, get_system
@@ -23,11 +24,10 @@ from physics.stepping.stepper import ATOL_FACTOR, BRAKED, OK, STATUS_TEXT, STIFF
 from physics.stepping.stepper import MAX_STEPS as MAX_STEPS_STATUS
 from physics.systems.choice import resolve
 
-__all__ = ["ATOL_FACTOR", "check_output_budget", "integrate", "simulate"]
-# Budgets every run gets, so that no input can hold the machine: steps (a few minutes of the slowest model),
-# steps per compiled call (Ctrl-C and the checks below run between calls: a fraction of a second each),
-# outputs per call, the memory of the output, and the right-hand side evaluations of scipy's methods.
-MAX_STEPS = 20_000_000
+__all__ = ["ATOL_FACTOR", "MAX_STEPS", "check_output_budget", "integrate", "simulate"]
+# Budgets every run gets, so that no input can hold the machine: steps (MAX_STEPS, physics/core/budget.py, which
+# auto reads too), steps per compiled call (Ctrl-C and the checks below run between calls: a fraction of a second
+# each), outputs per call, the memory of the output, and the right-hand side evaluations of scipy's methods.
 STEPS_PER_CALL = 5_000
 OUTPUTS_PER_CALL = 20_000
 MAX_OUTPUT_BYTES = 256_000_000
@@ -58,7 +58,8 @@ def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | N
 
 def _simulate(scenario: Scenario, fidelity, method, progress) -> Trajectory:
     meth = method or scenario.run.method
-    model, fid, reason = _fields(resolve(scenario, fidelity, warn=True))
+    res = resolve(scenario, fidelity, warn=True)
+    model, fid, reason = _fields(res)
     t = scenario.run.times()
     lead = t[0] > 0  # output starts later than the initial state: integrate from 0, drop that row
     if lead:
@@ -77,6 +78,8 @@ def _simulate(scenario: Scenario, fidelity, method, progress) -> Trajectory:
         tr = tr.slice(1)
     tr.info.update(model=model.name, fidelity=fid, reason=reason, wall_s=time.perf_counter() - start)
     tr.info.update(stated_error(scenario, fid))
+    if res.steps is not None:  # auto weighed the models' costs: the picked one's and, over budget, the full model's
+        tr.info.update(estimated_steps=res.steps[fid], full_estimated_steps=res.steps.get("full"))
     return tr
 
 

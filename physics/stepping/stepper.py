@@ -51,6 +51,7 @@ from physics.compiled import dop853, fixed, midpoint
 from physics.core.errors import IntegrationFault, ScenarioError
 from physics.core.tolerance import ATOL_FACTOR, atol_for  # noqa: F401 - ATOL_FACTOR: simulate's public name
 from physics.scenario.params import FIXED_STEP_METHODS
+from physics.systems.cost import brake_and_medium  # noqa: F401 - also the stepper's public name
 from physics.systems.method import method_label
 
 # Adaptive steps between two stiffness checks, however they are split into calls (each check costs about 60
@@ -70,12 +71,6 @@ STIFF = 7
 STATUS_TEXT = {**dop853.STATUS_TEXT, NO_CONVERGENCE: midpoint.STATUS_TEXT,
                STIFF: "too stiff for the explicit integrator (DOP853)"}
 GOES_ON = (OK, MAX_STEPS)  # every other status ends the run
-
-
-def brake_and_medium(sc) -> tuple[float, float]:
-    """(b, lambda): the braking torque and the medium's resistance (0 where the system has neither table)."""
-    control, medium = getattr(sc, "control", None), getattr(sc, "medium", None)
-    return (float(control.b) if control else 0.0), (float(medium.lambda_) if medium else 0.0)
 
 
 def supports(model, sc, method: str) -> tuple[bool, str]:
