@@ -67,7 +67,10 @@ def _estimate(sc, fidelity: str) -> float | None:
         return float(math.ceil(t_end / float(sc.run.dt)))
     if model.py_rhs is not None or not compiled_ready():
         return None
-    steps = _probe(model, sc, t_end)
+    try:
+        steps = _probe(model, sc, t_end)
+    except (ArithmeticError, ValueError):  # values the model cannot pack (Omega^2 overflows): the run says so
+        return None
     outputs = len(sc.run.t_eval) if sc.run.t_eval is not None else sc.run.samples
     return None if steps is None else steps + outputs
 
