@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 import tracemalloc
+import warnings
 from pathlib import Path
 
 import pytest
@@ -86,3 +87,63 @@ def test_the_sweep_cli_refuses_a_billion_points_in_one_line(tmp_path):
     assert res.stderr.count("\n") == 1 and "Traceback" not in res.stderr
     assert res.stderr.startswith("error: vary k = '10:100:1000000000': asks for more than")
     assert not out.exists()
+
+
+# ---- b. only the documented error types, for any argument -------------------------------------------------
+DOCUMENTED = (ScenarioError, physics.IntegrationFault)
+HOSTILE = (Unshowable(), {"a": 1}, "x", None, [1, 2], 3, float("nan"), object())
+
+
+def _small():
+    return physics.Scenario.load(ROOT / "assets" / "scenarios" / "oblate_settling.toml").with_values(
+        **{"run.t_end": 0.1})
+
+
+CALLS = {
+    "derived": lambda sc, v: physics.derived(v),
+    "choose_fidelity": lambda sc, v: physics.choose_fidelity(v),
+    "numeric_keys": lambda sc, v: physics.numeric_keys(v),
+    "simulate": lambda sc, v: physics.simulate(v),
+    "simulate progress": lambda sc, v: physics.simulate(sc, progress=v),
+    "simulate method": lambda sc, v: physics.simulate(sc, method=v),
+    "simulate fidelity": lambda sc, v: physics.simulate(sc, fidelity=v),
+    "axis_values": lambda sc, v: physics.axis_values(v),
+    "axis_values count": lambda sc, v: physics.axis_values((0.0, 1.0, v)),
+    "sweep vary": lambda sc, v: physics.sweep(sc, v, executor="serial"),
+    "sweep spec": lambda sc, v: physics.sweep(sc, {"mass.chi": v}, executor="serial"),
+    "sweep metric": lambda sc, v: physics.sweep(sc, {"mass.chi": "1:2:2"}, v, executor="serial"),
+    "sweep progress": lambda sc, v: physics.sweep(sc, {"mass.chi": "1:2:2"}, executor="serial", progress=v),
+    "sweep stop": lambda sc, v: physics.sweep(sc, {"mass.chi": "1:2:2"}, executor="serial", stop=v),
+    "sweep workers": lambda sc, v: physics.sweep(sc, {"mass.chi": "1:2:2"}, executor="serial", workers=v),
+    "sweep executor": lambda sc, v: physics.sweep(sc, {"mass.chi": "1:2:2"}, executor=v),
+    "sweep out": lambda sc, v: physics.sweep(sc, {"mass.chi": "1:2:2"}, executor="serial", out=v),
+    "resolve_key": lambda sc, v: physics.resolve_key(sc, v),
+    "point_scenario": lambda sc, v: physics.point_scenario(sc, {"mass.chi": v}),
+    "check_point": lambda sc, v: physics.check_point(sc, v),
+    "with_values": lambda sc, v: sc.with_values(**{"mass.chi": v}),
+}
+
+
+@pytest.mark.parametrize("call", CALLS)
+def test_a_hostile_argument_gets_a_documented_error_type_in_one_line(call):
+    sc = _small()
+    for value in HOSTILE:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                CALLS[call](sc, value)
+        except DOCUMENTED as exc:
+            assert "\n" not in str(exc)
+        except Exception as exc:  # noqa: BLE001 - what the test is for
+            pytest.fail(f"{call}({type(value).__name__}) raised {type(exc).__name__}: {exc}")
+
+
+def test_derived_of_a_dict_names_the_argument():
+    with pytest.raises(ScenarioError, match=r"^scenario = 'dict': must be a physics.Scenario$"):
+        physics.derived({"body": {"A": 1.0}})
+
+
+def test_a_progress_that_is_no_function_is_refused_before_the_run():
+    with pytest.raises(ScenarioError, match=r"^progress = 'x': must be a function \(or None\)$"):
+        physics.simulate(_small(), progress="x")
+

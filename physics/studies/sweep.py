@@ -25,7 +25,7 @@ import os
 import threading
 import time
 import warnings
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -34,6 +34,7 @@ import numpy as np
 
 from physics.core.errors import ScenarioError
 from physics.registry import REGISTRY, get_system
+from physics.scenario import arguments
 from physics.scenario.scenario import Scenario, _toml_names, sections
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
@@ -138,7 +139,7 @@ def _count(raw) -> int:
 def numeric_keys(scenario: Scenario) -> list[str]:
     """Dotted keys a sweep may vary in ``scenario``: numeric keys of its tables (plus the tables it may
     switch on, e.g. medium.lambda), in the tables' order."""
-    data = scenario.to_dict()
+    data = arguments.scenario(scenario).to_dict()
     out = []
     for table, cls in sections().items():
         if table not in data:
@@ -158,6 +159,8 @@ def resolve_key(scenario: Scenario, name: str) -> str:
     """The dotted scenario key meant by ``name``: a dotted key as is (checked), or a short name such as
     ``k`` when exactly one varied-able key of this scenario ends in it. Raises ScenarioError otherwise."""
     allowed = numeric_keys(scenario)
+    if not isinstance(name, str):
+        raise ScenarioError("vary", name, "must be a key (text) such as mass.chi; allowed: " + ", ".join(allowed))
     if "." in name:
         table, key = name.split(".", 1)
         if table not in sections() or key not in _toml_names(table):
@@ -182,7 +185,9 @@ def point_scenario(base: Scenario, values: dict[str, float]) -> Scenario:
     """``base`` with the dotted keys set to numbers (validated again; physics/scenario/edit.py): a key of
     [[plane_pendulum]] sets every pendulum; initial.G0 or theta0 on a scenario given by omega first rewrites
     omega as G0, theta0."""
-    return base.with_values(**{k: float(v) for k, v in values.items()})
+    arguments.scenario(base, "base")
+    values = arguments.mapping(values, "values", '{"mass.chi": 5.0}')
+    return base.with_values(**{k: arguments.number(v, k) for k, v in values.items()})
 
 
 def check_point(base: Scenario, values: dict[str, float]) -> Scenario:
@@ -420,13 +425,16 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
     this process runs no other thread, else forkserver; see _mp_context).
     """
     start = time.perf_counter()
-    if not isinstance(scenario, Scenario):
-        raise ScenarioError("scenario", type(scenario).__name__, "must be a physics.Scenario")
-    if not vary:
-        raise ScenarioError("vary", vary, "give at least one parameter to vary, e.g. {\"mass.chi\": \"1:20:5\"}")
+    arguments.scenario(scenario)
+    example = '{"mass.chi": "1:20:5"}'
+    if isinstance(vary, Mapping) and not vary:
+        raise ScenarioError("vary", vary, "give at least one parameter to vary, e.g. " + example)
+    arguments.mapping(vary, "vary", example)
+    if not isinstance(metric, (str, list, tuple)):
+        raise ScenarioError("metric", metric, "must be a metric's name or a list of names: " + ", ".join(METRICS))
     metrics = (metric,) if isinstance(metric, str) else tuple(metric)
     for m in metrics:
-        if m not in METRICS:
+        if not isinstance(m, str) or m not in METRICS:
             raise ScenarioError("metric", m, "must be one of " + ", ".join(METRICS))
     if not metrics or len(set(metrics)) != len(metrics):
         raise ScenarioError("metric", metric, "give one or more different metric names")
@@ -443,9 +451,13 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
         grid = " x ".join(f"{len(a)} {k}" for k, a in zip(keys, axes, strict=True))
         raise ScenarioError("vary", f"({grid} = {total} points)",
                             f"a sweep takes at most {MAX_POINTS} points (each a full simulation): use fewer values")
-    if executor not in ("processes", "serial"):
-        raise ScenarioError("executor", executor, 'must be "processes" or "serial"')
-    if workers is not None and (not isinstance(workers, int) or workers < 1):
+    arguments.choice(executor, "executor", ("processes", "serial"))
+    arguments.callback(progress, "progress")
+    if stop is not None and not callable(getattr(stop, "is_set", None)):
+        raise ScenarioError("stop", stop, "must be a threading.Event (or None)")
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise ScenarioError("out", out, "must be a file path (or None)")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ScenarioError("workers", workers, "must be a whole number >= 1 (or None: all cores)")
     workers = workers or os.cpu_count() or 1
 
