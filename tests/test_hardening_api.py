@@ -147,3 +147,15 @@ def test_a_progress_that_is_no_function_is_refused_before_the_run():
     with pytest.raises(ScenarioError, match=r"^progress = 'x': must be a function \(or None\)$"):
         physics.simulate(_small(), progress="x")
 
+
+# ---- c. a wrong method name is input, not a numerical fault -----------------------------------------------
+def test_a_wrong_method_argument_is_refused_naming_it_and_the_methods():
+    with pytest.raises(ScenarioError) as err:
+        physics.simulate(_small(), method="bogus")
+    assert not isinstance(err.value, physics.IntegrationFault) and "rtol" not in str(err.value)
+    assert str(err.value).startswith("method = 'bogus': must be one of \"auto\", \"DOP853\"")
+
+
+def test_a_wrong_method_in_run_is_refused_naming_run_method():
+    with pytest.raises(ScenarioError, match=r"^run.method = 'bogus': must be one of \"auto\", \"DOP853\""):
+        _small().with_values(**{"run.method": "bogus"})

@@ -19,7 +19,7 @@ from physics.core.errors import ScenarioError
 from physics.core.trajectory import Trajectory
 from physics.registry import Model, get_system
 from physics.scenario import arguments
-from physics.scenario.params import FIDELITIES, FIXED_STEP_METHODS
+from physics.scenario.params import FIDELITIES, FIXED_STEP_METHODS, METHODS
 from physics.scenario.scenario import Scenario
 from physics.stepping.stepper import ATOL_FACTOR, BRAKED, OK, STATUS_TEXT, STIFF, Piece, Stepper
 from physics.stepping.stepper import MAX_STEPS as MAX_STEPS_STATUS
@@ -54,8 +54,8 @@ def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | N
     arguments.scenario(scenario)
     if fidelity is not None:
         arguments.choice(fidelity, "fidelity", FIDELITIES)
-    if method is not None and not isinstance(method, str):
-        raise ScenarioError("method", method, "must be a method's name")
+    if method is not None:  # refused as input here, not left to fail inside the stepper as a numerical fault
+        arguments.choice(method, "method", METHODS)
     arguments.callback(progress, "progress")
     with guarded(scenario, "the run"):
         return _simulate(scenario, fidelity, method, progress)
