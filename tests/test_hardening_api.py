@@ -159,3 +159,17 @@ def test_a_wrong_method_argument_is_refused_naming_it_and_the_methods():
 def test_a_wrong_method_in_run_is_refused_naming_run_method():
     with pytest.raises(ScenarioError, match=r"^run.method = 'bogus': must be one of \"auto\", \"DOP853\""):
         _small().with_values(**{"run.method": "bogus"})
+
+
+# ---- d. a fault at t = 0 names the key that causes it ----------------------------------------------------
+@pytest.mark.parametrize(("name", "key", "value"), [("plane_pendulums_three", "run.t_end", 1e-300),
+                                                     ("quadratic_friction", "mass.chi", 1e30),
+                                                     ("quadratic_friction", "mass.chi", 1e12),
+                                                     ("prolate_flat_spin", "medium.lambda", 1e30)])
+def test_a_fault_before_the_first_step_names_the_changed_key(name, key, value):
+    sc = physics.Scenario.load(ROOT / "assets" / "scenarios" / f"{name}.toml").with_values(**{key: value})
+    with pytest.raises(physics.IntegrationFault) as err, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        physics.simulate(sc)
+    assert err.value.t == 0.0 and err.value.key == key, str(err.value)
+    assert f"the most extreme value is {key} = " in str(err.value)

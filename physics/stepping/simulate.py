@@ -19,6 +19,7 @@ from physics.core.errors import ScenarioError
 from physics.core.trajectory import Trajectory
 from physics.registry import Model, get_system
 from physics.scenario import arguments
+from physics.scenario.meta import BASE_PARAMS
 from physics.scenario.params import FIDELITIES, FIXED_STEP_METHODS, METHODS
 from physics.scenario.scenario import Scenario
 from physics.stepping.stepper import ATOL_FACTOR, BRAKED, OK, STATUS_TEXT, STIFF, Piece, Stepper
@@ -57,8 +58,13 @@ def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | N
     if method is not None:  # refused as input here, not left to fail inside the stepper as a numerical fault
         arguments.choice(method, "method", METHODS)
     arguments.callback(progress, "progress")
-    with guarded(scenario, "the run"):
+    with guarded(scenario, "the run", spans(scenario)):
         return _simulate(scenario, fidelity, method, progress)
+
+
+def spans(sc: Scenario) -> dict[str, tuple[float, float]]:
+    """The span each key usually takes (its slider's range), by which a fault's blame judges what is extreme."""
+    return {p.key: (p.lo, p.hi) for p in (*BASE_PARAMS, *get_system(sc.system).params)}
 
 
 def _simulate(scenario: Scenario, fidelity, method, progress) -> Trajectory:
