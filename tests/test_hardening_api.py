@@ -173,3 +173,11 @@ def test_a_fault_before_the_first_step_names_the_changed_key(name, key, value):
         physics.simulate(sc)
     assert err.value.t == 0.0 and err.value.key == key, str(err.value)
     assert f"the most extreme value is {key} = " in str(err.value)
+
+
+def test_a_bob_placed_beyond_any_carrier_is_blamed_on_its_own_key_not_on_body_a():
+    sc = physics.Scenario.load(RESONANT)
+    with pytest.raises(ScenarioError, match=r"^pendulum\.h = 9\.2e\+18: places a bob so far from O"):
+        physics.simulate(sc.with_values(**{"pendulum.h": 9.2e18}))
+    with pytest.raises(ScenarioError, match=r"^pendulum\.l = 1e\+30: places a bob so far from O"):
+        physics.simulate(sc.with_values(**{"pendulum.l": 1e30}))
