@@ -17,10 +17,28 @@ from physics.core.errors import IntegrationFault, NumericalFault, ScenarioError
 
 # what numpy, scipy and Python raise when the numbers, not the code, are at fault
 NUMERICAL = (ArithmeticError, np.linalg.LinAlgError, ValueError, RuntimeError)
+# The sizes [run] keys usually take (they have no slider): without them a default rtol = 1e-10, ten decades
+# from 1, was blamed for a fault that mass.chi = 1e12 caused.
+RUN_SPANS = {"run.t_end": (1e-3, 1e6), "run.rtol": (1e-14, 1e-2), "run.dt": (1e-7, 1.0), "run.accuracy": (1e-12, 1.0)}
 
 
-def most_extreme(sc) -> tuple[str, object]:
-    """(dotted key, value) of the scenario's nonzero number furthest from 1 in size (|log10|x||)."""
+def _decades(x: float, span: tuple[float, float] | None) -> float:
+    """How many decades |x| lies outside ``span`` (lo, hi), or from 1 when there is none; with lo <= 0 only
+    the top counts (a tiny value of a key that may be 0 is ordinary)."""
+    if span is None:
+        return abs(math.log10(abs(x)))
+    lo, hi = span
+    top = max(abs(lo), abs(hi))
+    over = math.log10(abs(x) / top) if top > 0 else 0.0
+    under = math.log10(lo / abs(x)) if lo > 0 else 0.0
+    return max(0.0, over, under)
+
+
+def most_extreme(sc, spans: dict[str, tuple[float, float]] | None = None) -> tuple[str, object]:
+    """(dotted key, value) of the scenario's nonzero number furthest in size from the span its key usually
+    takes (``spans``: key -> (lo, hi), the explorer's slider ranges, and RUN_SPANS), or from 1 (|log10|x||)
+    for a key with no span."""
+    spans = {**RUN_SPANS, **(spans or {})}
     best, worst = ("scenario", "(no number)"), -1.0
     for table, items in sc.to_dict().items():
         blocks = items if isinstance(items, list) else [items]
@@ -30,22 +48,31 @@ def most_extreme(sc) -> tuple[str, object]:
                 for x in value if isinstance(value, list) else [value]:
                     if isinstance(x, bool) or not isinstance(x, (int, float)) or x == 0 or not math.isfinite(x):
                         continue
-                    size = abs(math.log10(abs(x)))
+                    size = _decades(x, spans.get(f"{table}.{key}"))
                     if size > worst:
                         best, worst = (f"{where}.{key}", value), size
     return best
 
 
 @contextmanager
-def guarded(sc, what: str):
+def guarded(sc, what: str, spans: dict[str, tuple[float, float]] | None = None):
     """Re-raise an arithmetic or linear-algebra failure inside the block as NumericalFault naming the
-    most extreme value of ``sc``; ScenarioError and IntegrationFault pass unchanged."""
+    most extreme value of ``sc`` (most_extreme, with ``spans``); so too an integration fault at t = 0 (a
+    step-size underflow or a non-finite state before the first step is a fault of the input, and the
+    user must learn which key); ScenarioError and other IntegrationFaults pass unchanged."""
     try:
         yield
-    except (ScenarioError, IntegrationFault):
+    except NumericalFault:
+        raise
+    except IntegrationFault as exc:
+        if exc.t != 0.0 or type(exc) is not IntegrationFault:
+            raise
+        key, value = most_extreme(sc, spans)
+        raise NumericalFault(str(exc), key, value) from exc
+    except ScenarioError:
         raise
     except NUMERICAL as exc:
-        key, value = most_extreme(sc)
+        key, value = most_extreme(sc, spans)
         detail = str(exc).splitlines()[0][:120] if str(exc) else ""
         raise NumericalFault(f"{what} failed ({type(exc).__name__}{': ' + detail if detail else ''})",
                              key, value) from exc

@@ -12,9 +12,9 @@ class ScenarioError(ValueError):
 
     def __init__(self, key: str, value: object, allowed: str):
         # a key or text of a hundred thousand characters (a fuzzed file) is cut, so the message stays one line
-        self.key = _cut(str(key))
+        self.key = _cut(_text(key))
         self.value = value
-        self.allowed = _cut(str(allowed), MAX_ALLOWED)
+        self.allowed = _cut(_text(allowed), MAX_ALLOWED)
         super().__init__(f"{self.key} = {_show(value)}: {self.allowed}")
 
 
@@ -36,7 +36,7 @@ class NumericalFault(IntegrationFault):
     as a fault like an integration's, naming the key most likely to blame (physics/core/blame.py)."""
 
     def __init__(self, what: str, key: str, value: object):
-        RuntimeError.__init__(self, f"{what}; the most extreme value is {_cut(key)} = {_show(value)}: "
+        RuntimeError.__init__(self, f"{what}; the most extreme value is {_cut(_text(key))} = {_show(value)}: "
                               "bring it nearer the scenario's other scales")
         self.what, self.t, self.key, self.value = what, 0.0, key, value
 
@@ -52,7 +52,19 @@ def _show(value: object) -> str:
         return f"(a {type(value).__name__} nested too deeply to show)"
     except ValueError:  # repr() refuses an integer of more than 4300 digits inside a list or table
         return f"(a {type(value).__name__} holding a number too long to show)"
+    except Exception:  # noqa: BLE001 - an API caller's object whose __repr__ raises: the message must still be made
+        return f"(a {type(value).__name__} that cannot be shown)"
     return _cut(text)
+
+
+def _text(thing: object) -> str:
+    """``str(thing)``, or what it is when its __str__ raises (a caller's own object)."""
+    if isinstance(thing, str):
+        return thing
+    try:
+        return str(thing)
+    except Exception:  # noqa: BLE001 - the error being built must not be replaced by another
+        return _show(thing)
 
 
 MAX_SHOWN = 80  # characters of a key or value echoed back: a message stays one readable line

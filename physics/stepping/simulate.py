@@ -18,7 +18,9 @@ from physics.core.budget import MAX_STEPS
 from physics.core.errors import ScenarioError
 from physics.core.trajectory import Trajectory
 from physics.registry import Model, get_system
-from physics.scenario.params import FIXED_STEP_METHODS
+from physics.scenario import arguments
+from physics.scenario.meta import BASE_PARAMS
+from physics.scenario.params import FIDELITIES, FIXED_STEP_METHODS, METHODS
 from physics.scenario.scenario import Scenario
 from physics.stepping.stepper import ATOL_FACTOR, BRAKED, OK, STATUS_TEXT, STIFF, Piece, Stepper
 from physics.stepping.stepper import MAX_STEPS as MAX_STEPS_STATUS
@@ -50,10 +52,19 @@ def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | N
     (IntegrationFault), and a problem too stiff for DOP853 stops with a fault as LiveRun's does.
     Arithmetic and linear-algebra failures come out as NumericalFault naming the most extreme value.
     """
-    if not isinstance(scenario, Scenario):
-        raise ScenarioError("scenario", type(scenario).__name__, "must be a physics.Scenario")
-    with guarded(scenario, "the run"):
+    arguments.scenario(scenario)
+    if fidelity is not None:
+        arguments.choice(fidelity, "fidelity", FIDELITIES)
+    if method is not None:  # refused as input here, not left to fail inside the stepper as a numerical fault
+        arguments.choice(method, "method", METHODS)
+    arguments.callback(progress, "progress")
+    with guarded(scenario, "the run", spans(scenario)):
         return _simulate(scenario, fidelity, method, progress)
+
+
+def spans(sc: Scenario) -> dict[str, tuple[float, float]]:
+    """The span each key usually takes (its slider's range), by which a fault's blame judges what is extreme."""
+    return {p.key: (p.lo, p.hi) for p in (*BASE_PARAMS, *get_system(sc.system).params)}
 
 
 def _simulate(scenario: Scenario, fidelity, method, progress) -> Trajectory:

@@ -25,7 +25,7 @@ import os
 import threading
 import time
 import warnings
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -34,6 +34,7 @@ import numpy as np
 
 from physics.core.errors import ScenarioError
 from physics.registry import REGISTRY, get_system
+from physics.scenario import arguments
 from physics.scenario.scenario import Scenario, _toml_names, sections
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
@@ -44,6 +45,11 @@ NOT_NUMERIC = {"run.samples"}  # a number, but a count of outputs, not a paramet
 # 0 for the full model, inf where its cheaper model makes no claim), as tr.info["error_bound"] gives it
 TAIL_COLUMNS = ("error_bound", "model", "error", "scenario")
 NOT_RUN = "(not run: the sweep was stopped)"
+# The largest grid a sweep takes, and so the most values one axis may have. Each point is a full simulation:
+# at the lightest measured (6 ms of CPU, docs/sweeps.md) this many take ten minutes of one core, and their
+# rows (a dict of a dozen numbers each) about 100 MB; a typo such as 1e9 for 1e2 is refused before a
+# single value is made, rather than exhausting the machine's memory.
+MAX_POINTS = 100_000
 SPEC_HELP = ('must be LO:HI:N (N values, linear), log:LO:HI:N (N values, geometric, LO and HI > 0), '
              'V1,V2,... (these values), a tuple (LO, HI, N) or ("log", LO, HI, N), or a list of values')
 
@@ -54,15 +60,22 @@ def axis_values(spec, name: str = "vary") -> tuple[list[float], str]:
     """The values of one varied parameter and their spacing ("linear", "log" or "list").
 
     ``spec``: "LO:HI:N" (numpy.linspace), "log:LO:HI:N" (numpy.geomspace), "V1,V2,..." or one number,
-    a tuple (LO, HI, N) or ("log", LO, HI, N), or a list/array of values. Raises ScenarioError naming ``name``.
+    a tuple (LO, HI, N) or ("log", LO, HI, N), or a list/array of values; at most MAX_POINTS values, refused
+    before any is made. Raises ScenarioError naming ``name``.
     """
     def bad(why: str = SPEC_HELP):
         return ScenarioError(name, spec, why)
+
+    def too_many():  # the spec shown with the message says how many
+        return bad(f"asks for more than {MAX_POINTS} values, the most a sweep takes (each point is a full "
+                   "simulation)")
 
     if isinstance(spec, str):
         text = spec.strip()
         parts = [p.strip() for p in text.split(":")]
         if len(parts) == 1:
+            if text.count(",") >= MAX_POINTS:
+                raise too_many()
             try:
                 return [float(v) for v in text.split(",")], "list"
             except ValueError:
@@ -73,26 +86,34 @@ def axis_values(spec, name: str = "vary") -> tuple[list[float], str]:
     elif isinstance(spec, tuple):
         spec_t = spec
     elif isinstance(spec, (list, np.ndarray)):
+        if (spec.size if isinstance(spec, np.ndarray) else len(spec)) > MAX_POINTS:
+            raise too_many()
         try:
-            values = [float(v) for v in np.ravel(spec)]
-        except (TypeError, ValueError):
+            flat = np.ravel(spec)
+            if flat.size > MAX_POINTS:  # a nested list: the caller holds it already, but no more is made
+                raise too_many()
+            values = [float(v) for v in flat]
+        except ScenarioError:
+            raise
+        except Exception:  # noqa: BLE001 - any element float() refuses (a caller's object may raise anything)
             raise bad() from None
         if not values or not all(math.isfinite(v) for v in values):
             raise bad("must hold at least one value, all finite")
         return values, "list"
     else:
         raise bad()
-    log = len(spec_t) == 4 and str(spec_t[0]).lower() == "log"
+    log = len(spec_t) == 4 and isinstance(spec_t[0], str) and spec_t[0].lower() == "log"
     if len(spec_t) != (4 if log else 3):
         raise bad()
     try:
         lo, hi = float(spec_t[-3]), float(spec_t[-2])
-        n_raw = spec_t[-1]
-        n = int(n_raw) if isinstance(n_raw, (str, int, np.integer)) and not isinstance(n_raw, bool) else -1
-    except (TypeError, ValueError):
+        n = _count(spec_t[-1])
+    except Exception:  # noqa: BLE001 - what float() refuses (a caller's object may raise anything)
         raise bad() from None
     if not (math.isfinite(lo) and math.isfinite(hi)) or n < 1:
         raise bad("needs finite LO, HI and a whole N >= 1")
+    if n > MAX_POINTS:
+        raise too_many()
     if log:
         if lo <= 0 or hi <= 0:
             raise bad("log spacing needs LO > 0 and HI > 0")
@@ -100,10 +121,25 @@ def axis_values(spec, name: str = "vary") -> tuple[list[float], str]:
     return [float(v) for v in np.linspace(lo, hi, n)], "linear"
 
 
+def _count(raw) -> int:
+    """N of a range: a whole number, also as text written with an exponent ("1e3"); -1 when it is none."""
+    if isinstance(raw, bool):
+        return -1
+    if isinstance(raw, (int, np.integer)):
+        return int(raw)
+    if not isinstance(raw, str):
+        return -1
+    try:
+        return int(raw)
+    except ValueError:
+        x = float(raw)  # "1e3": people write counts so too; a ValueError here means no number at all
+        return int(x) if math.isfinite(x) and x == int(x) else -1
+
+
 def numeric_keys(scenario: Scenario) -> list[str]:
     """Dotted keys a sweep may vary in ``scenario``: numeric keys of its tables (plus the tables it may
     switch on, e.g. medium.lambda), in the tables' order."""
-    data = scenario.to_dict()
+    data = arguments.scenario(scenario).to_dict()
     out = []
     for table, cls in sections().items():
         if table not in data:
@@ -123,6 +159,8 @@ def resolve_key(scenario: Scenario, name: str) -> str:
     """The dotted scenario key meant by ``name``: a dotted key as is (checked), or a short name such as
     ``k`` when exactly one varied-able key of this scenario ends in it. Raises ScenarioError otherwise."""
     allowed = numeric_keys(scenario)
+    if not isinstance(name, str):
+        raise ScenarioError("vary", name, "must be a key (text) such as mass.chi; allowed: " + ", ".join(allowed))
     if "." in name:
         table, key = name.split(".", 1)
         if table not in sections() or key not in _toml_names(table):
@@ -147,7 +185,9 @@ def point_scenario(base: Scenario, values: dict[str, float]) -> Scenario:
     """``base`` with the dotted keys set to numbers (validated again; physics/scenario/edit.py): a key of
     [[plane_pendulum]] sets every pendulum; initial.G0 or theta0 on a scenario given by omega first rewrites
     omega as G0, theta0."""
-    return base.with_values(**{k: float(v) for k, v in values.items()})
+    arguments.scenario(base, "base")
+    values = arguments.mapping(values, "values", '{"mass.chi": 5.0}')
+    return base.with_values(**{k: arguments.number(v, k) for k, v in values.items()})
 
 
 def check_point(base: Scenario, values: dict[str, float]) -> Scenario:
@@ -385,13 +425,16 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
     this process runs no other thread, else forkserver; see _mp_context).
     """
     start = time.perf_counter()
-    if not isinstance(scenario, Scenario):
-        raise ScenarioError("scenario", type(scenario).__name__, "must be a physics.Scenario")
-    if not vary:
-        raise ScenarioError("vary", vary, "give at least one parameter to vary, e.g. {\"mass.chi\": \"1:20:5\"}")
+    arguments.scenario(scenario)
+    example = '{"mass.chi": "1:20:5"}'
+    if isinstance(vary, Mapping) and not vary:
+        raise ScenarioError("vary", vary, "give at least one parameter to vary, e.g. " + example)
+    arguments.mapping(vary, "vary", example)
+    if not isinstance(metric, (str, list, tuple)):
+        raise ScenarioError("metric", metric, "must be a metric's name or a list of names: " + ", ".join(METRICS))
     metrics = (metric,) if isinstance(metric, str) else tuple(metric)
     for m in metrics:
-        if m not in METRICS:
+        if not isinstance(m, str) or m not in METRICS:
             raise ScenarioError("metric", m, "must be one of " + ", ".join(METRICS))
     if not metrics or len(set(metrics)) != len(metrics):
         raise ScenarioError("metric", metric, "give one or more different metric names")
@@ -403,9 +446,18 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
         values, how = axis_values(spec, f"vary {name}")
         point_scenario(scenario, {key: values[0]})  # a key the scenario cannot take fails here, once
         keys.append(key), axes.append(tuple(values)), spacing.append(how)
-    if executor not in ("processes", "serial"):
-        raise ScenarioError("executor", executor, 'must be "processes" or "serial"')
-    if workers is not None and (not isinstance(workers, int) or workers < 1):
+    total = math.prod(len(a) for a in axes)
+    if total > MAX_POINTS:
+        grid = " x ".join(f"{len(a)} {k}" for k, a in zip(keys, axes, strict=True))
+        raise ScenarioError("vary", f"({grid} = {total} points)",
+                            f"a sweep takes at most {MAX_POINTS} points (each a full simulation): use fewer values")
+    arguments.choice(executor, "executor", ("processes", "serial"))
+    arguments.callback(progress, "progress")
+    if stop is not None and not callable(getattr(stop, "is_set", None)):
+        raise ScenarioError("stop", stop, "must be a threading.Event (or None)")
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise ScenarioError("out", out, "must be a file path (or None)")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ScenarioError("workers", workers, "must be a whole number >= 1 (or None: all cores)")
     workers = workers or os.cpu_count() or 1
 
@@ -482,5 +534,5 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
                             "error_bound_method": get_system(scenario.system).error_method})
 
 
-__all__ = ["SweepTable", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "run_point",
-           "sweep"]
+__all__ = ["MAX_POINTS", "SweepTable", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key",
+           "run_point", "sweep"]

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from physics.core.budget import MAX_STEPS
 from physics.core.errors import ScenarioError, ValidityWarning
 from physics.registry import FIDELITY_ORDER, Condition, Model, get_model, get_system
+from physics.scenario import arguments
 from physics.systems.cost import estimated_steps
 
 
@@ -24,6 +25,7 @@ def choose_fidelity(sc) -> tuple[str, str]:
     """The cheapest model ``auto`` trusts for ``sc``, and why (the system's own rule; with ``run.accuracy``
     the cheapest whose error estimate meets it, where the system has estimates), within the step budget
     (``choose``)."""
+    arguments.scenario(sc)
     choice = choose(sc)
     return choice.fidelity, choice.reason
 

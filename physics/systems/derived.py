@@ -9,6 +9,7 @@ import math
 from physics.core.blame import guarded
 from physics.kernels.build import pick
 from physics.registry import get_system
+from physics.scenario import arguments
 from physics.scenario.params import FIXED_STEP_METHODS
 from physics.scenario.scenario import Scenario
 from physics.systems.choice import choose_fidelity
@@ -19,6 +20,7 @@ def derived(sc: Scenario) -> dict[str, float | str]:
     """Derived quantities by name; the ``auto_*`` keys (``auto_choice``) say which model and method fidelity
     ``auto`` runs, the requested accuracy, the estimated error bound and the reason. Arithmetic that fails on
     extreme input raises NumericalFault naming a key."""
+    arguments.scenario(sc)
     with guarded(sc, "computing the derived quantities"):
         out = dict(get_system(sc.system).derived(sc))
         out.update(auto_choice(sc))

@@ -74,6 +74,18 @@ def _geometry_from_O(sc: Scenario) -> list[tuple[str, object, np.ndarray, np.nda
     return [("plane", pp, *pp.geometry()) for pp in sc.plane_pendulums]
 
 
+def _placing_key(kind: str, bob, i: int, pivot: np.ndarray) -> tuple[str, object]:
+    """The key that puts a bob far from O: its length, or what places its pivot (h; hinge, R or z_p)."""
+    if kind == "spherical":
+        return ("pendulum.l", bob.l) if bob.l >= abs(bob.h) else ("pendulum.h", bob.h)
+    where = f"plane_pendulum[{i}]"
+    if bob.l >= float(np.linalg.norm(pivot)):
+        return f"{where}.l", bob.l
+    if bob.preset is None:
+        return f"{where}.hinge", list(bob.hinge)
+    return (f"{where}.R", bob.R) if bob.R >= abs(bob.z_p) else (f"{where}.z_p", bob.z_p)
+
+
 def pendulum_system(sc: Scenario, *, resolve: bool = True) -> PendulumSystem:
     """The scenario's pendulum system, with k resolved when ``resolve`` (tuning needs the rest)."""
     body = sc.body
@@ -87,6 +99,12 @@ def pendulum_system(sc: Scenario, *, resolve: bool = True) -> PendulumSystem:
     eig = np.linalg.eigvalsh(I_c)
     table = geo[0][0] == "spherical" and "pendulum" or "plane_pendulum"
     if eig[0] <= 0 or eig[2] > eig[0] + eig[1] + 1e-12 * eig[2]:
+        moments = [m * float(r @ r) for m, r in zip(masses, rests, strict=True)]
+        i = int(np.argmax(moments))
+        if moments[i] > J.max():  # the bob sits so far out that no body could carry it: its placing key is at fault
+            key, value = _placing_key(geo[i][0], geo[i][1], i, geo[i][2])
+            raise ScenarioError(key, value, f"places a bob so far from O that its moment m |r|^2 = {moments[i]:.3g} "
+                                f"kg m^2 exceeds the body's largest moment ({J.max():.4g}): no rigid carrier is left")
         raise ScenarioError("body.A", body.A, f"too small for the bobs of [{table}]: the carrier left over "
                             f"would have principal moments {np.array2string(eig, precision=4)}, not a rigid body")
     w0, _, _ = initial_G(sc)
