@@ -18,6 +18,7 @@ from ..engine.clock import PLOT_HZ
 from ..engine.engine import Engine
 from ..panel.panel import Panel
 from ..scene.drawing import Drawing
+from .message_guard import screen_gui_updates
 from .pace import Pace
 from .upload_cap import cap_streamed_uploads
 
@@ -46,12 +47,16 @@ class Session:
         # a server started on a scenario or mesh of its own shows that, not the browser's last scene
         self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None)
         cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
+        screen_gui_updates(client.gui, self._refuse_value)  # a value that does not fit its control never reaches viser
         self.drawing = Drawing(client, self.engine)
         self.thread = threading.Thread(target=self._loop, name=f"session-{client.client_id}", daemon=True)
         self.thread.start()
 
     def _refuse_upload(self, message: str) -> None:
         self.engine.error = message  # shown beside the upload button's panel as any rejection is
+
+    def _refuse_value(self, message: str) -> None:
+        self.engine.error = message  # the panel's note, as the app's own refusals are shown
 
     def _publish(self, fr, plots_now: bool) -> None:
         with self.client.atomic():
