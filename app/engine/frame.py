@@ -72,10 +72,11 @@ def make_frame(run: physics.LiveRun, *, seq: int, applied: int, view: str, world
     K = run.momentum()
     w_in = rotate(q, last.omega[0])
     axis = rotate(q, E3)
-    torque = None
+    torque = None  # the braking torque -b K/|K|, drawn at a fixed length: only its direction is needed
     if run.b > 0 and not run.ended:
         n = np.linalg.norm(K)
-        torque = -run.b * K / n if n > 0 else None
+        # from K, not from the torque: b = 1e-300 underflowed b K/|K| to a norm of 0 and the arrow to +-inf
+        torque = -K / n if n > 0 else None
     if view == "body":
         turn = np.array([q[0], -q[1], -q[2], -q[3]])  # inertial -> body components
         body_wxyz = np.array([1.0, 0, 0, 0])
@@ -93,7 +94,7 @@ def make_frame(run: physics.LiveRun, *, seq: int, applied: int, view: str, world
                K_vec=to_scene(K) / K_ref * 1.0 * size,
                omega_vec=to_scene(w_in) / w_ref * 0.9 * size,
                axis_vec=to_scene(axis) * 0.9 * size,
-               torque_vec=None if torque is None else to_scene(torque) / (np.linalg.norm(torque)) * 0.6 * size,
+               torque_vec=None if torque is None else to_scene(torque) * 0.6 * size,
                status=run.status, message=run.message, applied=applied)
     fr.figure = figure(run, extent, view_values)
     fr.trail = trail * 0.9 * size  # the e3 arrow's tip draws it
