@@ -7,7 +7,7 @@ they read, called by ``app.engine.Engine`` and ``app.engine.compare.Comparison``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -100,6 +100,28 @@ def make_frame(run: physics.LiveRun, *, seq: int, applied: int, view: str, world
     fr.trail = trail * 0.9 * size  # the e3 arrow's tip draws it
     fr.polhode = polhode
     return fr
+
+
+def non_finite(fr: Frame) -> str | None:
+    """The name of the first part of ``fr`` a tab would be sent as NaN or infinity (a number, an array, a
+    figure primitive's field), or None when every number in it is finite."""
+    for name in ("t", "theta", "K", "E", "body_wxyz", "world_wxyz", "K_vec", "omega_vec", "axis_vec", "torque_vec",
+                 "trail", "polhode"):
+        v = getattr(fr, name)
+        if v is not None and not np.all(np.isfinite(v)):
+            return name
+    for p in fr.figure:
+        for field in fields(p):
+            v = getattr(p, field.name)
+            if not isinstance(v, (float, tuple, np.ndarray)):
+                continue
+            try:
+                finite = np.all(np.isfinite(np.asarray(v, dtype=float)))
+            except (TypeError, ValueError):
+                continue  # not numbers (a label's words)
+            if not finite:
+                return f"{p.name}.{field.name}"
+    return None
 
 
 def ellipsoid(body, extent: float) -> np.ndarray:
