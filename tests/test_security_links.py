@@ -46,3 +46,13 @@ def test_a_link_too_long_gets_a_page_that_says_so(app, chars):
 def test_a_short_link_gets_the_explorer(app):
     status, body = _get(app.port, "/?scene=qr1:abc")
     assert status == 200 and b"quasirigid.link" in body
+
+
+@pytest.mark.parametrize("extra", [("Host: 127.0.0.1:{port}",), ("Host: attacker.example",),
+                                   ("Origin: http://127.0.0.1:{port}", "Origin: http://127.0.0.1:{port}"),
+                                   ("Origin: http://127.0.0.1:{port}", "Origin: http://attacker.example")])
+def test_a_host_or_origin_given_twice_is_a_bad_request_not_a_server_error(app, extra):
+    """websockets' Headers.get raised on a header given twice: a 500 (refused, but as a server fault)."""
+    status, body = _get(app.port, "/", tuple(h.format(port=app.port) for h in extra))
+    assert status == 400
+    assert b"more than once" in body

@@ -37,6 +37,8 @@ def refusal(headers, port: int, host: str | None = None, origins: tuple[str, ...
     """Why a request with these headers, arriving on ``port``, is refused; None when it is accepted."""
     host = _policy["host"] if host is None else host
     origins = _policy["origins"] if origins is None else origins
+    if (twice := duplicated(headers)) is not None:
+        return f"{twice} header given more than once"
     given = (headers.get("Host") or "").strip().lower()
     if host not in EVERY_INTERFACE:
         names = LOOPBACK_NAMES if host in LOOPBACK_NAMES else (host.lower(), f"[{host.lower()}]")
@@ -51,6 +53,16 @@ def refusal(headers, port: int, host: str | None = None, origins: tuple[str, ...
         return None
     return (f"Origin {origin[:80]!r} is not this page's origin (http://{given[:80]}); start the explorer with "
             "--allow-origin ORIGIN to accept another")
+
+
+def duplicated(headers) -> str | None:
+    """The name of the Host or Origin header a request gives more than once (which one would count is
+    ambiguous: it is refused as malformed, 400), or None."""
+    get_all = getattr(headers, "get_all", None)
+    for name in ("Host", "Origin"):
+        if get_all is not None and len(get_all(name)) > 1:
+            return name
+    return None
 
 
 def install() -> None:
@@ -71,7 +83,9 @@ def install() -> None:
                 why = refusal(request.headers, port)
                 if why is not None:
                     body = f"refused: {why}\n".encode()
-                    return Response(http.HTTPStatus.FORBIDDEN, "Forbidden",
+                    # a header given twice is a malformed request (400); a wrong one is a refusal (403)
+                    status = http.HTTPStatus.BAD_REQUEST if duplicated(request.headers) else http.HTTPStatus.FORBIDDEN
+                    return Response(status, status.phrase,
                                     Headers({"Content-Type": "text/plain; charset=utf-8",
                                              "Content-Length": str(len(body))}), body)
                 return process_request(connection, request) if process_request is not None else None
