@@ -75,6 +75,8 @@ def install() -> None:
         from websockets.datastructures import Headers
         from websockets.http11 import Response
 
+        from .upload_cap import MAX_MESSAGE_BYTES
+
         original = ws_server.serve
 
         def serve(handler, *args, process_request=None, **kwargs):
@@ -90,6 +92,8 @@ def install() -> None:
                                              "Content-Length": str(len(body))}), body)
                 return process_request(connection, request) if process_request is not None else None
 
+            # a client's message is read whole before anyone sees it: bounded far below viser's 50 MB
+            kwargs["max_size"] = min(kwargs.get("max_size") or MAX_MESSAGE_BYTES, MAX_MESSAGE_BYTES)
             return original(handler, *args, process_request=checked, **kwargs)
 
         ws_server.serve = serve
