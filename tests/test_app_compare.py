@@ -218,3 +218,26 @@ def test_the_panel_overlays_both_runs_and_turning_off_restores_one():
         panel.update(e.tick(DT), plots_now=True)
     assert panel.compare_md.content == "" and not any(h.visible for h in panel.compare_plots.handles.values())
     assert panel.plots.handles["theta"].visible and panel.plots.handles["E"].visible
+
+
+def test_a_compare_parameter_not_offered_is_refused_in_words_not_raised():
+    """A client's "parameter" value that is not one of the dropdown's (issue 24: StopIteration in the panel's
+    callback) is refused with a note naming it and what is offered; nothing is requested of the engine."""
+    from types import SimpleNamespace
+
+    from test_app_words import _RecordingGui
+
+    from app.panel.compare_panel import PARAMETER, ComparePanel
+
+    e = Engine()
+    panel = ComparePanel(_RecordingGui(), e)
+    panel.mode.value = PARAMETER
+    panel.value.value = 0.5
+    for handle in (panel.param, panel.value):
+        panel.param.value = "not a parameter"
+        before = panel._seq
+        for cb in handle.callbacks:
+            cb(SimpleNamespace(client=object()))
+        assert panel._seq == before
+        assert e.error.startswith("parameter: 'not a parameter' refused; expected one of ")
+        assert panel._labels()[0] in e.error

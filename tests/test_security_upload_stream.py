@@ -107,3 +107,35 @@ def test_a_small_scenario_sent_the_same_way_loads(app):
 
     out = _send(app, messages)
     assert out["preset"] == "upload o.toml" and out["error"] == ""
+
+
+def test_one_part_over_the_message_bound_is_refused_at_its_header(app):
+    """Issue 24: one 40 MB part was read whole (viser lets a message be 50 MB) before the cap could see it. A
+    message over MAX_MESSAGE_BYTES closes the connection at its header (1009), before its body is read."""
+    from app.serve.upload_cap import MAX_MESSAGE_BYTES
+
+    closed = {}
+
+    async def go():
+        # not ``async with``: its closing of a connection the server has already closed fails inside asyncio
+        ws = await connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
+                           max_size=None, compression=None, open_timeout=60)
+        await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
+                           fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
+                           look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
+        session = await asyncio.to_thread(_session, app)
+        uuid = _upload_uuid(session)
+        await ws.send(_msg(type="FileTransferStartUpload", source_component_uuid=uuid, transfer_uuid="one",
+                           filename="x.toml", mime_type="application/toml", part_count=1, size_bytes=1000))
+        try:  # the server may close while the part is still being written: the send itself can fail
+            await ws.send(_msg(type="FileTransferPart", source_component_uuid=uuid, transfer_uuid="one",
+                               part_index=0, content=b"#" * (40 * MAX_MESSAGE_BYTES)))
+        except Exception:  # noqa: BLE001 - what the server said is read below
+            pass
+        await asyncio.wait_for(ws.wait_closed(), timeout=30)
+        closed["code"] = ws.close_code
+        closed["buffered"] = dict(session.client.gui._current_file_upload_states)
+
+    asyncio.run(go())
+    assert closed["code"] == 1009  # message too big
+    assert all(not state["parts"] for state in closed["buffered"].values())  # nothing of the part is held

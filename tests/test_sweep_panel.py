@@ -14,7 +14,7 @@ pytest.importorskip("plotly")
 from fake_gui import FakeGui, Handle  # noqa: E402
 
 from app.studies import sweep_panel  # noqa: E402
-from app.studies.sweep_panel import NONE, SweepPanel  # noqa: E402
+from app.studies.sweep_panel import MAX_POINTS, NONE, SweepPanel  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -154,3 +154,23 @@ def test_clicking_a_cell_of_the_scene_board_loads_its_point():
     panel.run_btn.fire()  # a new sweep replaces the board
     panel.thread.join(timeout=60)
     assert len([n for n in scene.nodes if "/cell" in n]) == 6
+
+
+@pytest.mark.parametrize("sent", [1e9, 0, -3, 2.5, MAX_POINTS + 1, "abc", None, {"a": 1}, True])
+def test_a_points_count_the_browser_would_not_send_is_refused_on_the_server(sent):
+    """The points boxes' bounds hold only in the browser (issue 24: a raw client's 1e9, then a parameter change,
+    grew the server to 3.5 GB): the server refuses it in words, the box shows the count kept, a range reset and
+    a run use that count."""
+    gui = FakeGui()
+    panel = SweepPanel(gui, _scene, lambda sc: None, executor="serial")
+    panel.n1.value = 5
+    panel.n1.fire()
+    panel.n1.value = sent
+    panel.n1.fire()
+    assert panel.n1.value == 5
+    assert "points" in panel.status.content and "refused" in panel.status.content
+    assert f"from 1 to {MAX_POINTS}" in panel.status.content
+    panel.n1.value = sent  # had it reached the box unscreened, a range reset and a run still refuse it
+    panel.key1.fire()
+    with pytest.raises(physics.ScenarioError, match="points"):
+        panel.request()

@@ -7,7 +7,7 @@ they read, called by ``app.engine.Engine`` and ``app.engine.compare.Comparison``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -72,10 +72,11 @@ def make_frame(run: physics.LiveRun, *, seq: int, applied: int, view: str, world
     K = run.momentum()
     w_in = rotate(q, last.omega[0])
     axis = rotate(q, E3)
-    torque = None
+    torque = None  # the braking torque -b K/|K|, drawn at a fixed length: only its direction is needed
     if run.b > 0 and not run.ended:
         n = np.linalg.norm(K)
-        torque = -run.b * K / n if n > 0 else None
+        # from K, not from the torque: b = 1e-300 underflowed b K/|K| to a norm of 0 and the arrow to +-inf
+        torque = -K / n if n > 0 else None
     if view == "body":
         turn = np.array([q[0], -q[1], -q[2], -q[3]])  # inertial -> body components
         body_wxyz = np.array([1.0, 0, 0, 0])
@@ -93,12 +94,34 @@ def make_frame(run: physics.LiveRun, *, seq: int, applied: int, view: str, world
                K_vec=to_scene(K) / K_ref * 1.0 * size,
                omega_vec=to_scene(w_in) / w_ref * 0.9 * size,
                axis_vec=to_scene(axis) * 0.9 * size,
-               torque_vec=None if torque is None else to_scene(torque) / (np.linalg.norm(torque)) * 0.6 * size,
+               torque_vec=None if torque is None else to_scene(torque) * 0.6 * size,
                status=run.status, message=run.message, applied=applied)
     fr.figure = figure(run, extent, view_values)
     fr.trail = trail * 0.9 * size  # the e3 arrow's tip draws it
     fr.polhode = polhode
     return fr
+
+
+def non_finite(fr: Frame) -> str | None:
+    """The name of the first part of ``fr`` a tab would be sent as NaN or infinity (a number, an array, a
+    figure primitive's field), or None when every number in it is finite."""
+    for name in ("t", "theta", "K", "E", "body_wxyz", "world_wxyz", "K_vec", "omega_vec", "axis_vec", "torque_vec",
+                 "trail", "polhode"):
+        v = getattr(fr, name)
+        if v is not None and not np.all(np.isfinite(v)):
+            return name
+    for p in fr.figure:
+        for field in fields(p):
+            v = getattr(p, field.name)
+            if not isinstance(v, (float, tuple, np.ndarray)):
+                continue
+            try:
+                finite = np.all(np.isfinite(np.asarray(v, dtype=float)))
+            except (TypeError, ValueError):
+                continue  # not numbers (a label's words)
+            if not finite:
+                return f"{p.name}.{field.name}"
+    return None
 
 
 def ellipsoid(body, extent: float) -> np.ndarray:

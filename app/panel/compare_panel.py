@@ -51,8 +51,15 @@ class ComparePanel:
         system = self.engine.scenario.system
         return [p.text for p in controls.PARAMS if system in p.systems]
 
-    def _key(self) -> str:
-        return next(p.key for p in controls.PARAMS if p.text == self.param.value)
+    def _key(self) -> str | None:
+        """The slider key the "parameter" dropdown names; None for a label the scene's system does not offer
+        (the options changed with the system, or a client sent another)."""
+        return next((p.key for p in controls.PARAMS if p.text == self.param.value and p.text in self._labels()),
+                    None)
+
+    def _unknown_param(self) -> None:
+        self.engine.error = (f"parameter: {str(self.param.value)[:40]!r} refused; expected one of "
+                             + ", ".join(self._labels()))
 
     def _bind(self) -> None:
         def user(handle, fn):
@@ -79,6 +86,9 @@ class ComparePanel:
 
         def on_param():
             key = self._key()
+            if key is None:
+                self._unknown_param()
+                return
             self.value.value = suggested(controls.BY_KEY[key], self.engine.values[key])
             self._request((key, float(self.value.value)))
 
@@ -88,7 +98,11 @@ class ComparePanel:
             except (TypeError, ValueError):
                 self.engine.error = f"its other value: {str(self.value.value)[:40]!r} is not a number"
                 return
-            self._request((self._key(), value))
+            key = self._key()
+            if key is None:
+                self._unknown_param()
+                return
+            self._request((key, value))
 
         def on_fidelity():
             self._request(("fidelity", self.fidelity.value))

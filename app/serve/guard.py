@@ -37,6 +37,8 @@ def refusal(headers, port: int, host: str | None = None, origins: tuple[str, ...
     """Why a request with these headers, arriving on ``port``, is refused; None when it is accepted."""
     host = _policy["host"] if host is None else host
     origins = _policy["origins"] if origins is None else origins
+    if (twice := duplicated(headers)) is not None:
+        return f"{twice} header given more than once"
     given = (headers.get("Host") or "").strip().lower()
     if host not in EVERY_INTERFACE:
         names = LOOPBACK_NAMES if host in LOOPBACK_NAMES else (host.lower(), f"[{host.lower()}]")
@@ -53,6 +55,16 @@ def refusal(headers, port: int, host: str | None = None, origins: tuple[str, ...
             "--allow-origin ORIGIN to accept another")
 
 
+def duplicated(headers) -> str | None:
+    """The name of the Host or Origin header a request gives more than once (which one would count is
+    ambiguous: it is refused as malformed, 400), or None."""
+    get_all = getattr(headers, "get_all", None)
+    for name in ("Host", "Origin"):
+        if get_all is not None and len(get_all(name)) > 1:
+            return name
+    return None
+
+
 def install() -> None:
     """Wrap websockets' server factory so that every server made afterwards checks requests first."""
     global _installed
@@ -63,6 +75,8 @@ def install() -> None:
         from websockets.datastructures import Headers
         from websockets.http11 import Response
 
+        from .upload_cap import MAX_MESSAGE_BYTES
+
         original = ws_server.serve
 
         def serve(handler, *args, process_request=None, **kwargs):
@@ -71,11 +85,15 @@ def install() -> None:
                 why = refusal(request.headers, port)
                 if why is not None:
                     body = f"refused: {why}\n".encode()
-                    return Response(http.HTTPStatus.FORBIDDEN, "Forbidden",
+                    # a header given twice is a malformed request (400); a wrong one is a refusal (403)
+                    status = http.HTTPStatus.BAD_REQUEST if duplicated(request.headers) else http.HTTPStatus.FORBIDDEN
+                    return Response(status, status.phrase,
                                     Headers({"Content-Type": "text/plain; charset=utf-8",
                                              "Content-Length": str(len(body))}), body)
                 return process_request(connection, request) if process_request is not None else None
 
+            # a client's message is read whole before anyone sees it: bounded far below viser's 50 MB
+            kwargs["max_size"] = min(kwargs.get("max_size") or MAX_MESSAGE_BYTES, MAX_MESSAGE_BYTES)
             return original(handler, *args, process_request=checked, **kwargs)
 
         ws_server.serve = serve

@@ -16,8 +16,10 @@ import physics
 
 from ..engine.clock import PLOT_HZ
 from ..engine.engine import Engine
+from ..engine.frame import non_finite
 from ..panel.panel import Panel
 from ..scene.drawing import Drawing
+from .message_guard import screen_gui_updates
 from .pace import Pace
 from .upload_cap import cap_streamed_uploads
 
@@ -40,12 +42,14 @@ class Session:
             note.remove()
         self.stop = threading.Event()
         self.published = 0
+        self.last_good = None  # the last frame published whose numbers were all finite (_publish)
         self.first_frame_after: dict[int, float] = {}  # change seq -> latency (s) of its first frame
         self.frame_ms: deque = deque(maxlen=600)  # (tick, publish) wall ms of recent frames
         self.pace = Pace()  # how often to publish, from what a frame costs and how many tabs there are
         # a server started on a scenario or mesh of its own shows that, not the browser's last scene
         self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None)
         cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
+        screen_gui_updates(client.gui, self._refuse_value)  # a value that does not fit its control never reaches viser
         self.drawing = Drawing(client, self.engine)
         self.thread = threading.Thread(target=self._loop, name=f"session-{client.client_id}", daemon=True)
         self.thread.start()
@@ -53,7 +57,21 @@ class Session:
     def _refuse_upload(self, message: str) -> None:
         self.engine.error = message  # shown beside the upload button's panel as any rejection is
 
+    def _refuse_value(self, message: str) -> None:
+        self.engine.error = message  # the panel's note, as the app's own refusals are shown
+
     def _publish(self, fr, plots_now: bool) -> None:
+        """Send the frame to the tab; one with a NaN or infinity in it is never sent (the browser would draw
+        nothing or garbage): the last good frame is shown again, with a note naming what was not finite."""
+        bad = non_finite(fr)
+        if bad is not None:
+            self.engine.error = (f"the frame at t = {fr.t:.6g} s has a non-finite {bad}; "
+                                 "the last drawing that was finite is kept")
+            if self.last_good is None:
+                return
+            fr, plots_now = self.last_good, False
+        else:
+            self.last_good = fr
         with self.client.atomic():
             self.drawing.update(fr, plots_now)
             self.panel.update(fr, plots_now)

@@ -8,6 +8,12 @@ from viser import _messages as msgs
 
 from ..engine.upload import MAX_UPLOAD_BYTES, display_name
 
+# the largest websocket message a tab's client may send (bytes). viser's page sends an upload in parts of
+# 512 kB and every other message it sends is small; viser lets a message be 50 MB, which websockets reads whole
+# before anyone sees it (a raw client's one 40 MB part: +83 MB). A message over this closes the connection at
+# its header, before its body is read (websockets' max_size; close code 1009).
+MAX_MESSAGE_BYTES = 1 << 20
+
 
 def cap_streamed_uploads(gui, refused, max_bytes: int = MAX_UPLOAD_BYTES) -> None:
     """Enforce ``max_bytes`` while an upload's parts arrive, not after viser has buffered them all (a raw

@@ -32,6 +32,17 @@ SCRIPT = f"""<script>/* Quasirigid (app/share/link.py): the page's address and i
 }})();
 </script>""".encode()
 
+# the request line a link arrives on may be this long (bytes): a longest code, percent-encoded, with room to spare;
+# websockets' own limit for a line is 8 kB, past which it closed the connection unanswered (the browser's
+# ERR_EMPTY_RESPONSE for a 9 kB link). A longer line is dropped as it arrives and answered with TOO_LONG_PAGE.
+MAX_REQUEST_LINE = 4 * MAX_LINK_CHARS
+TOO_LONG = "/?quasirigid-link-too-long"  # the stand-in request line of a line dropped as too long
+TOO_LONG_PAGE = (
+    "<!doctype html><meta charset='utf-8'><title>Quasirigid: link too long</title>"
+    "<p><b>This link is too long for the explorer.</b> Its scene code would be more than {limit} characters; a "
+    "scene's code is a few thousand at most, so the link was probably cut, joined or altered.</p>"
+    "<p>Open <a href='/'>the explorer</a> and paste the code into Share, or load the scenario's TOML file.</p>")
+
 _lock = threading.Lock()
 _installed = False
 _pages: dict[tuple[int, bool], bytes] = {}  # (id of viser's cached page, gzipped) -> the page with the script
@@ -73,8 +84,68 @@ def _page_response(response):
     return Response(200, response.reason_phrase, out, body)
 
 
+def link_too_long(path: str) -> bool:
+    """Whether a request for ``path`` carries a link the explorer cannot take: a scene parameter longer than
+    MAX_LINK_CHARS, or a request line dropped as too long (TOO_LONG)."""
+    from urllib.parse import parse_qs, urlsplit
+
+    if path == TOO_LONG:
+        return True
+    query = urlsplit(path).query
+    return len(query) > MAX_LINK_CHARS and any(len(v) > MAX_LINK_CHARS for v in parse_qs(query).get("scene", []))
+
+
+def too_long_response():
+    from websockets.datastructures import Headers
+    from websockets.http11 import Response
+
+    body = TOO_LONG_PAGE.format(limit=MAX_LINK_CHARS).encode()
+    return Response(414, "URI Too Long", Headers({"Content-Type": "text/html; charset=utf-8",
+                                                  "Content-Length": str(len(body))}), body)
+
+
+def _long_request_lines() -> None:
+    """Let an HTTP request's first line be up to MAX_REQUEST_LINE bytes (a header line keeps websockets' limit),
+    and drop a longer one as it arrives, standing in TOO_LONG for it, so the browser gets a page that says so
+    rather than an empty response. Reaches into websockets' Request.parse and its stream reader (websockets
+    13-16); other versions are left as they are."""
+    from websockets import http11
+
+    original = http11.Request.parse.__func__
+    if getattr(original, "quasirigid", False):
+        return
+
+    def parse(cls, read_line):
+        first = [True]
+        reader = getattr(read_line, "__self__", None)
+
+        def read_first_long(limit):
+            if not first[0]:
+                return (yield from read_line(limit))
+            first[0] = False
+            try:
+                return (yield from read_line(max(limit, MAX_REQUEST_LINE)))
+            except RuntimeError:
+                buffer = getattr(reader, "buffer", None)
+                if not isinstance(buffer, bytearray):
+                    raise
+            while (end := buffer.find(b"\n")) < 0:  # drop the line as it arrives, to its end
+                if reader.eof:
+                    raise EOFError("stream ended inside an overlong request line")
+                del buffer[:]
+                yield
+            del buffer[:end + 1]
+            return f"GET {TOO_LONG} HTTP/1.1\r\n".encode()
+
+        return (yield from original(cls, read_first_long))
+
+    parse.quasirigid = True
+    http11.Request.parse = classmethod(parse)
+
+
 def install() -> None:
-    """Wrap websockets' server factory, so the servers made afterwards serve the page with the script."""
+    """Wrap websockets' server factory, so the servers made afterwards serve the page with the script and answer
+    a link too long with a page that says so."""
     global _installed
     with _lock:
         if _installed:
@@ -82,9 +153,12 @@ def install() -> None:
         import websockets.asyncio.server as ws_server
 
         original = ws_server.serve
+        _long_request_lines()
 
         def serve(handler, *args, process_request=None, **kwargs):
             def with_page(connection, request):
+                if link_too_long(request.path):
+                    return too_long_response()
                 response = process_request(connection, request) if process_request is not None else None
                 return _page_response(response)
 
@@ -94,4 +168,5 @@ def install() -> None:
         _installed = True
 
 
-__all__ = ["LINK_KEY", "PAGE_KEY", "SCRIPT", "STORAGE_PREFIX", "install", "with_script"]
+__all__ = ["LINK_KEY", "MAX_REQUEST_LINE", "PAGE_KEY", "SCRIPT", "STORAGE_PREFIX", "install", "link_too_long",
+           "with_script"]

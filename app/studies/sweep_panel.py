@@ -33,6 +33,16 @@ STALE = "**Stale:** the scene has changed since this sweep; its points are those
         "Run the sweep again for the current one."
 
 
+def count_of(value) -> int | None:
+    """A points box's value as a count: a whole number from 1 to MAX_POINTS, else None. The box's bounds hold
+    only in the browser; a raw client sent 1e9 and the next range reset sized arrays by it (issue 24: 3.5 GB)."""
+    try:
+        n = int(value)
+    except (TypeError, ValueError, OverflowError):
+        return None
+    return n if 1 <= n <= MAX_POINTS and n == value and not isinstance(value, bool) else None
+
+
 def sweepable(sc: physics.Scenario) -> list[str]:
     """The slider keys (controls.PARAMS) of this scenario's system that a sweep can vary in it."""
     allowed = set(physics.numeric_keys(sc))
@@ -91,6 +101,9 @@ class SweepPanel:
                                           hint="computed points: the best (by the rule above) first, then the "
                                           "others, then the failed ones")
             self.load_btn = gui.add_button("Load this point", disabled=True)
+        self._counts = {1: DEFAULT_POINTS, 2: DEFAULT_POINTS}  # the points each box last took
+        self.n1.on_update(lambda _: self._take_count(1))
+        self.n2.on_update(lambda _: self._take_count(2))
         self.key1.on_update(lambda _: self._reset_range(1))
         self.key2.on_update(lambda _: self._reset_range(2))
         self.run_btn.on_click(lambda _: self.start())
@@ -109,6 +122,17 @@ class SweepPanel:
         fig.update_layout(margin={"l": 10, "r": 10, "t": 10, "b": 10})
         return fig
 
+    def _take_count(self, which: int) -> None:
+        """Keep a points box's count if it is one (``count_of``); otherwise say so and show the count that runs."""
+        box = self.n1 if which == 1 else self.n2
+        n = count_of(box.value)
+        if n is None:
+            self._say(f"**{box.label}:** {str(box.value)[:40]!r} refused; a whole number from 1 to {MAX_POINTS}; "
+                      f"{self._counts[which]} kept")
+            box.value = self._counts[which]
+        else:
+            self._counts[which] = n
+
     def _reset_range(self, which: int) -> None:
         key = (self.key1 if which == 1 else self.key2).value
         lo, hi, log, n = ((self.lo1, self.hi1, self.log1, self.n1) if which == 1 else
@@ -119,7 +143,7 @@ class SweepPanel:
         if key not in controls.BY_KEY:
             return
         try:
-            a, b = default_range(self.get_scenario(), key, int(n.value))
+            a, b = default_range(self.get_scenario(), key, count_of(n.value) or self._counts[which])
         except Exception:  # noqa: BLE001 - a scenario being swapped out: keep the old range
             return
         for box, v in ((lo, a), (hi, b)):
@@ -177,8 +201,8 @@ class SweepPanel:
                 continue
             if key not in controls.BY_KEY:
                 raise physics.ScenarioError("parameter", key, "is not a slider of the explorer")
-            count = int(n.value)
-            if not 1 <= count <= MAX_POINTS:
+            count = count_of(n.value)
+            if count is None:
                 raise physics.ScenarioError(f"points of {key}", n.value, f"must be from 1 to {MAX_POINTS}")
             a, b = float(lo.value), float(hi.value)
             spec = ("log", a, b, count) if log.value else (a, b, count)
