@@ -53,8 +53,8 @@ def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | N
     Arithmetic and linear-algebra failures come out as NumericalFault naming the most extreme value.
     """
     arguments.scenario(scenario)
-    if fidelity is not None:
-        arguments.choice(fidelity, "fidelity", FIDELITIES)
+    if fidelity is not None:  # a system may register fidelities of its own: resolve names what this one has
+        arguments.choice(fidelity, "fidelity", (*FIDELITIES, *get_system(scenario.system).fidelities))
     if method is not None:  # refused as input here, not left to fail inside the stepper as a numerical fault
         arguments.choice(method, "method", METHODS)
     arguments.callback(progress, "progress")
