@@ -6,7 +6,7 @@ msgpack out, zstd-compressed windows in), learns every input control the tab was
 receives, and sends each control every value of HOSTILE as a GuiUpdateMessage, then a few valid dropdown choices.
 Reports the tracebacks the server printed, its peak RSS and the notes the tab was shown.
 
-    python -m bench.hostile [--rounds N] [--settle S]
+    python -m bench hostile [--rounds N] [--settle S]
 """
 
 from __future__ import annotations
@@ -131,7 +131,7 @@ async def _storm(url: str, rounds: int, settle: float, pid: int, peak: list[int]
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench.hostile", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m bench hostile", description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=1, help="times every control gets every hostile value")
     ap.add_argument("--settle", type=float, default=8.0, help="seconds to wait for the tab, and after a round")
     args = ap.parse_args(argv)

@@ -30,6 +30,7 @@ OPTIONS = {
     "sweep": ["--vary", "--metric", "--workers", "--dask", "--scaling"],
     "soak": ["--minutes", "--clients", "--churn", "--reconnect", "--trim"],
     "load": ["--clients", "--minutes", "--warmup", "--out"],
+    "hostile": ["--rounds", "--settle"],
     "explorer-rates": ["seconds", "--out", "--img", "--chart-only", "--compare"],
     "fidelity": ["--quick", "--n", "--seed", "--out", "--img", "--workers", "--system"],
     "corrections": ["--out"],
