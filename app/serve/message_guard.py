@@ -54,7 +54,9 @@ def refusal(state, updates) -> str | None:
     if isinstance(held, (int, float)):
         if not _number(value):
             return f"{label}: {shown} refused; expected a finite number"
-        if isinstance(held, int) and float(value) != int(value):
+        step = getattr(props, "step", None)
+        whole = isinstance(held, int) and isinstance(step, Real) and float(step).is_integer()
+        if whole and float(value) != int(value):  # a count; a slider made with an int value may still take 0.5
             return f"{label}: {shown} refused; expected a whole number"
         lo, hi = getattr(props, "min", None), getattr(props, "max", None)
         if isinstance(props, msgs.GuiNumberProps) and lo is not None and hi is not None and not lo <= value <= hi:
