@@ -9,9 +9,9 @@ import asyncio
 import time
 from types import SimpleNamespace
 
-import msgspec
 import pytest
 import viser
+from test_security_upload_stream import _msg  # viser's wire format, as that file's raw client speaks it
 from viser import _messages as msgs
 from websockets.asyncio.client import connect
 
@@ -77,10 +77,6 @@ def test_only_a_value_can_be_set():
 
 
 # ---- against the real server ----------------------------------------------------------------------
-def _msg(**fields) -> bytes:
-    return msgspec.msgpack.encode(fields)
-
-
 @pytest.fixture(scope="module")
 def app():
     from app.serve.server import App
