@@ -15,7 +15,7 @@ from test_security_upload_stream import _msg  # viser's wire format, as that fil
 from viser import _messages as msgs
 from websockets.asyncio.client import connect
 
-from app.serve.message_guard import refusal
+from app.serve.message_guard import refusal, well_formed
 from app.studies.sweep_panel import DEFAULT_POINTS, MAX_POINTS
 
 
@@ -74,6 +74,39 @@ def test_only_a_value_can_be_set():
     assert why is not None and "only its value" in why
     assert refusal(s, {"value": 0.5, "max": 9}) is not None
     assert refusal(s, ["value"]) is not None
+
+
+def test_an_upload_button_takes_no_value_from_an_update():
+    s = _state(None, SimpleNamespace(label="Load a scenario"))
+    for bad in ({"name": "x.toml"}, {"name": "x", "content": b"x"}, "x", None):
+        why = refusal(s, {"value": bad})
+        assert why is not None and why.startswith("Load a scenario:") and "only by uploading" in why
+
+
+CAMERA = dict(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9), fov=1.3, near=0.01,
+              far=1000.0, image_height=720, image_width=1280, look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0))
+
+
+def test_a_well_formed_frame_is_its_message():
+    assert isinstance(well_formed(_msg(**CAMERA)), msgs.ViewerCameraMessage)
+    assert isinstance(well_formed(_msg(**{**CAMERA, "fov": 1})), msgs.ViewerCameraMessage)  # an int for a float
+    m = well_formed(_msg(type="GuiUpdateMessage", uuid="u", updates={"value": {"a": [1]}}))
+    assert isinstance(m, msgs.GuiUpdateMessage) and m.updates == {"value": {"a": [1]}}  # the value: the guard's
+
+
+@pytest.mark.parametrize("frame", [
+    "a text frame", b"", b"\xc1", b"not msgpack", _msg(x=1), b"\x92\x01\x02",
+    _msg(type="NoSuchMessage"), _msg(type=7), _msg(type="GuiUpdateMessage"),
+    _msg(type="GuiUpdateMessage", uuid=5, updates={}), _msg(type="GuiUpdateMessage", uuid="u", updates=[1]),
+    _msg(type="GuiUpdateMessage", uuid="u", updates={}, extra=1), _msg(**{**CAMERA, "fov": "abc"}),
+    _msg(**{**CAMERA, "fov": True}), _msg(**{**CAMERA, "wxyz": (1.0,)}),
+    _msg(type="GuiButtonHoldMessage", uuid="u", held=None),
+    _msg(type="FileTransferStartUpload", source_component_uuid="u", transfer_uuid="t", filename="x",
+         mime_type="x", part_count="abc", size_bytes=[1]),
+    _msg(type="PointCloudMessage", name="x"),  # a kind only the server sends
+])
+def test_a_frame_that_is_no_well_formed_message_is_dropped(frame):
+    assert well_formed(frame) is None
 
 
 # ---- against the real server ----------------------------------------------------------------------
@@ -150,3 +183,34 @@ def test_a_sweep_count_past_its_bound_is_refused_and_the_box_keeps_the_count_tha
     assert seen["points"] == DEFAULT_POINTS
     assert "1000000000.0" in seen["error"] and f"from 1 to {MAX_POINTS}" in seen["error"]
     assert "Traceback" not in capfd.readouterr().err
+
+
+def test_junk_frames_are_dropped_and_the_connection_goes_on(app, capfd):
+    """Issue 24, point 6: a frame that is no message ended the connection with a traceback in viser's reader."""
+    seen = {}
+
+    async def script(ws, session):
+        for frame in ("text", b"\xc1", b"not msgpack", _msg(type="NoSuchMessage"), _msg(**{**CAMERA, "fov": "x"}),
+                      _msg(type="GuiButtonHoldMessage", uuid="u", held=None)):
+            await ws.send(frame)
+        await ws.send(_update(session.panel.compare.param, "not a parameter"))  # the same connection still heard
+        await asyncio.to_thread(_wait, lambda: "not a parameter" in session.engine.error)
+        seen["error"] = session.engine.error
+
+    _run(app, script)
+    assert "refused" in seen["error"]
+    assert "Traceback" not in capfd.readouterr().err
+
+
+def test_an_upload_announcing_a_negative_size_or_count_is_refused(app):
+    seen = {}
+
+    async def script(ws, session):
+        uuid = session.panel.upload._impl.uuid
+        await ws.send(_msg(type="FileTransferStartUpload", source_component_uuid=uuid, transfer_uuid="neg",
+                           filename="x.toml", mime_type="application/toml", part_count=-1, size_bytes=10))
+        await asyncio.to_thread(_wait, lambda: "must be 0 or more" in session.engine.error)
+        seen.update(error=session.engine.error, held=dict(session.client.gui._current_file_upload_states))
+
+    _run(app, script)
+    assert "-1 parts" in seen["error"] and "neg" not in seen["held"]

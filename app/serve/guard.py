@@ -75,6 +75,7 @@ def install() -> None:
         from websockets.datastructures import Headers
         from websockets.http11 import Response
 
+        from .message_guard import install_frame_check
         from .upload_cap import MAX_MESSAGE_BYTES
 
         original = ws_server.serve
@@ -97,4 +98,5 @@ def install() -> None:
             return original(handler, *args, process_request=checked, **kwargs)
 
         ws_server.serve = serve
+        install_frame_check()  # and a frame that is no message is dropped, not a traceback ending the connection
         _installed = True

@@ -15,15 +15,24 @@ What fits a control, by what it holds now:
   bound that keeps what it sizes on the server bounded. A slider's span is not a bound: a value past it is
   the panel's to take or refuse in words;
 - a text box: a string;
-- a vector or colour: as many finite numbers as it holds.
+- a vector or colour: as many finite numbers as it holds;
+- an upload button: nothing (a file arrives by the upload messages, which app/serve/upload_cap.py bounds).
+
+Before any of that, a frame must be a message at all (``install_frame_check``): viser's reader decoded each
+frame and let any failure end the connection with a traceback (a text frame, bytes that are not msgpack, a
+message type that does not exist, a field missing or of the wrong type: a camera's fov as text, an upload's
+size as a list), and a message that decoded with a field of the wrong type failed later inside its handler. A
+frame that is not a well-formed message of a type viser knows is dropped; the connection goes on.
 """
 
 from __future__ import annotations
 
 import inspect
 import math
+import threading
 from numbers import Real
 
+import msgspec
 from viser import _messages as msgs
 
 SHOWN_CHARS = 40  # of a refused value, in the note
@@ -68,7 +77,9 @@ def refusal(state, updates) -> str | None:
         if isinstance(value, (list, tuple)) and len(value) == len(held) and all(map(_number, value)):
             return None
         return f"{label}: {shown} refused; expected {len(held)} finite numbers"
-    return None  # a control of a kind not listed: viser's handler as it is
+    # an upload button (its value a file, or None before one): the page sets it only by uploading, never by an
+    # update, and viser's handler made a file of the value sent (a traceback for anything but a file's fields)
+    return f"{label}: {shown} refused; this control is set only by uploading a file"
 
 
 def screen_gui_updates(gui, refused) -> None:
@@ -104,3 +115,57 @@ def screen_gui_updates(gui, refused) -> None:
                 await out
 
     handlers[cls] = [screened]
+
+
+_checked_types: dict[type, bool] = {}  # message class -> whether msgspec can check its fields (client's kinds can)
+_frame_lock = threading.Lock()
+_frame_check_installed = False
+
+
+def well_formed(raw) -> msgs.Message | None:
+    """The message one websocket frame from a client holds, or None when it holds none: a text frame, bytes that
+    are not msgpack, no table with a known ``type``, or fields missing or not of the types the message declares
+    (checked by msgspec against its dataclass; an int is taken for a float, nothing else is converted)."""
+    if not isinstance(raw, (bytes, bytearray)):
+        return None
+    try:
+        mapping = msgspec.msgpack.decode(raw)
+    except (msgspec.DecodeError, RecursionError, ValueError):
+        return None
+    kind = mapping.get("type") if isinstance(mapping, dict) else None
+    cls = msgs.Message._subclass_from_type_string().get(kind) if isinstance(kind, str) else None
+    if cls is None:
+        return None
+    fields = {k: v for k, v in mapping.items() if k != "type"}
+    try:
+        msgspec.convert(fields, cls)
+    except msgspec.ValidationError:
+        return None
+    except TypeError:  # a kind msgspec cannot check (only the server sends those): not a client's message
+        return None
+    try:
+        return msgs.Message.deserialize(bytes(raw))
+    except Exception:  # noqa: BLE001 - whatever viser's own decoding makes of a frame it cannot take: dropped
+        return None
+
+
+def install_frame_check() -> None:
+    """Make viser's reader of a client's frames drop one that is not a well-formed message (``well_formed``)
+    instead of ending the connection with a traceback. viser 1.1 reads every connection's frames in
+    ``viser.infra._infra._message_consumer``, looked up when a connection opens: replaced once per process, for
+    connections opened from then on; a viser without it is left as it is."""
+    global _frame_check_installed
+    from viser.infra import _infra
+
+    with _frame_lock:
+        if _frame_check_installed or not hasattr(_infra, "_message_consumer"):
+            return
+
+        async def consumer(websocket, handle_message, message_class) -> None:
+            while True:
+                message = well_formed(await websocket.recv())
+                if message is not None and isinstance(message, message_class):
+                    handle_message(message)
+
+        _infra._message_consumer = consumer
+        _frame_check_installed = True

@@ -47,8 +47,14 @@ def cap_streamed_uploads(gui, refused, max_bytes: int = MAX_UPLOAD_BYTES) -> Non
             refused(f"upload {display_name(message.filename)} ({size} bytes) must be at most {max_bytes} bytes "
                     "(a scenario is a short TOML file)")
             return False
-        if len(received) > 16:  # a client opening transfers it never finishes: keep the newest few
-            received.pop(next(iter(received)))
+        if size < 0 or int(message.part_count) < 0:
+            refused(f"upload {display_name(message.filename)} announced {size} bytes in {message.part_count} parts; "
+                    "both must be 0 or more")
+            return False
+        if len(received) > 16:  # a client opening transfers it never finishes: keep the newest few, here and in viser
+            oldest = next(iter(received))
+            del received[oldest]
+            states.pop(oldest, None)
         received[message.transfer_uuid] = 0
         return True
 
