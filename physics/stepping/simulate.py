@@ -25,6 +25,7 @@ from physics.scenario.scenario import Scenario
 from physics.stepping.stepper import ATOL_FACTOR, BRAKED, OK, STATUS_TEXT, STIFF, Piece, Stepper
 from physics.stepping.stepper import MAX_STEPS as MAX_STEPS_STATUS
 from physics.systems.choice import resolve
+from physics.systems.cost import estimated_steps
 
 __all__ = ["ATOL_FACTOR", "MAX_STEPS", "check_output_budget", "integrate", "simulate"]
 # Budgets every run gets, so that no input can hold the machine: steps (MAX_STEPS, physics/core/budget.py, which
@@ -35,6 +36,10 @@ OUTPUTS_PER_CALL = 20_000
 MAX_OUTPUT_BYTES = 256_000_000
 MAX_SCIPY_EVALS = 1_000_000
 CHUNKS = 50  # with a progress callback, at least this many calls: the bar moves in 2 % steps
+# A run whose estimated steps exceed this many times MAX_STEPS is refused before its first step (check_reachable):
+# the estimate is the run's steps to within a few times (tests/test_auto_budget.py, STEPS_FACTOR = 4), so a run
+# estimated nearer the budget starts and its pace check decides
+REFUSE_FACTOR = 4.0
 
 
 def simulate(scenario: Scenario, *, fidelity: str | None = None, method: str | None = None,
@@ -80,6 +85,8 @@ def _simulate(scenario: Scenario, fidelity, method, progress) -> Trajectory:
     check_run = get_system(scenario.system).check_run  # what only a run needs (a carrier left with A > 0)
     if check_run is not None:
         check_run(scenario)
+    if model.solve is None and meth == "auto":
+        check_reachable(scenario, fid, res.steps)
     start = time.perf_counter()
     if model.solve is not None:
         tr = model.solve(scenario, t)
@@ -92,6 +99,19 @@ def _simulate(scenario: Scenario, fidelity, method, progress) -> Trajectory:
     if res.steps is not None:  # auto weighed the models' costs: the picked one's and, over budget, the full model's
         tr.info.update(estimated_steps=res.steps[fid], full_estimated_steps=res.steps.get("full"))
     return tr
+
+
+def check_reachable(sc: Scenario, fid: str, steps: dict | None = None) -> None:
+    """Refuse, before a step, a run whose estimated steps (physics/systems/cost.py, a probe of milliseconds;
+    ``steps``: auto's, when it weighed them) exceed REFUSE_FACTOR x MAX_STEPS: it could not reach run.t_end,
+    and the pace check would say so only after integrating for seconds. Within that factor the estimate may be
+    high (it is the run's steps to within a few times), so the run starts and its pace check decides."""
+    est = steps[fid] if steps and fid in steps else estimated_steps(sc, fid)
+    if est is not None and est > REFUSE_FACTOR * MAX_STEPS:
+        t_end = float(sc.run.t_end)
+        raise ScenarioError("run.t_end", t_end, f"the {fid} model would need about {est:.3g} steps (estimated "
+                            f"before the run), more than the budget of {MAX_STEPS} steps per run: t_end at most "
+                            f"about {t_end * MAX_STEPS / est:.3g} s")
 
 
 def stated_error(sc: Scenario, fid: str) -> dict:
