@@ -76,9 +76,12 @@ class Body:
                                 f"moments (the inertia tensor's determinant) must be within [{DET_MIN:g}, {DET_MAX:g}] "
                                 "(kg m^2)^3")
         # A physical inertia obeys the triangle inequality; equality is a flat plate or a rod.
-        for key, big, s in (("body.A", A, B + C), ("body.B", B, A + C), ("body.C", C, A + B)):
+        # the message names the other two keys: the value changed may be either of them (body.B = 1e-300 makes
+        # body.C exceed body.A + body.B)
+        for key, big, others, s in (("body.A", A, "body.B + body.C", B + C), ("body.B", B, "body.A + body.C", A + C),
+                                    ("body.C", C, "body.A + body.B", A + B)):
             if big > s * (1 + 1e-12):
-                raise ScenarioError(key, big, f"must not exceed the sum of the other two moments ({s:.6g})")
+                raise ScenarioError(key, big, f"must not exceed the sum of the other two moments, {others} = {s:.6g}")
 
     @property
     def symmetric(self) -> bool:

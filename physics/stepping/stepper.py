@@ -68,8 +68,11 @@ OK, BRAKED, NONFINITE, UNDERFLOW, MAX_STEPS, MODEL_FAULT = (dop853.OK, dop853.BR
                                                             dop853.UNDERFLOW, dop853.MAX_STEPS, dop853.MODEL_FAULT)
 NO_CONVERGENCE = midpoint.NO_CONVERGENCE
 STIFF = 7
-STATUS_TEXT = {**dop853.STATUS_TEXT, NO_CONVERGENCE: midpoint.STATUS_TEXT,
-               STIFF: "too stiff for the explicit integrator (DOP853)"}
+# the kernel's words name k as the model does; a message names the key (issue 24), and the text is changed here, not
+# in physics/compiled/dop853.py, whose change would make numba recompile every kernel
+STATUS_TEXT = {**dop853.STATUS_TEXT,
+               MODEL_FAULT: dop853.STATUS_TEXT[MODEL_FAULT].replace("(k > 0)", "(pendulum.k > 0)"),
+               NO_CONVERGENCE: midpoint.STATUS_TEXT, STIFF: "too stiff for the explicit integrator (DOP853)"}
 GOES_ON = (OK, MAX_STEPS)  # every other status ends the run
 
 

@@ -105,8 +105,10 @@ def pendulum_system(sc: Scenario, *, resolve: bool = True) -> PendulumSystem:
             key, value = _placing_key(geo[i][0], geo[i][1], i, geo[i][2])
             raise ScenarioError(key, value, f"places a bob so far from O that its moment m |r|^2 = {moments[i]:.3g} "
                                 f"kg m^2 exceeds the body's largest moment ({J.max():.4g}): no rigid carrier is left")
-        raise ScenarioError("body.A", body.A, f"too small for the bobs of [{table}]: the carrier left over "
-                            f"would have principal moments {np.array2string(eig, precision=4)}, not a rigid body")
+        placing = ("m", "l", "h") if table == "pendulum" else ("m", "l", "azimuth", "R", "z_p", "hinge")
+        raise ScenarioError("body.A", body.A, f"with body.B and body.C, too small for the bobs of [{table}] as "
+                            f"{', '.join(f'{table}.{k}' for k in placing)} place them: the carrier left over would "
+                            f"have principal moments {np.array2string(eig, precision=4)}, not a rigid body")
     w0, _, _ = initial_G(sc)
     bobs = tuple(Bob(kind=kind, m=g.m, l=g.l, k=g.k, c_d=g.c_d, pivot=pivot - c, axis=axis, arm=arm)
                  for kind, g, pivot, axis, arm in geo)
@@ -133,7 +135,8 @@ def resonant_stiffness(system: PendulumSystem, bob: Bob) -> float:
     if C <= max(A, B):
         raise ScenarioError(
             "pendulum.k", "resonant",
-            f"cannot be tuned for a prolate carrier (C = {C:.6g} <= A = {A:.6g}): its nutation turns against the "
+            f"cannot be tuned for a prolate carrier (its C = {C:.6g} <= A = {A:.6g}: body.C, body.A and body.B less "
+            f"the bobs'): its nutation turns against the "
             "spin in the body frame, so resonance needs omega_0 = C W/A < W, where any pivot damping makes the "
             "pendulum whirl unstably, and every damper with omega_0 > W makes the nutation grow (energy-sink "
             "rule, docs/models.md B.4-B.5)")

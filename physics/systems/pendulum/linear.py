@@ -342,8 +342,9 @@ def optimal_tuning(system) -> tuple[float, float]:
     p = spherical_linear(system if not isinstance(bob.k, str) else replace(
         system, bobs=(replace(bob, k=1.0),)))
     if p.C <= max(p.A, p.Bm):
-        raise ScenarioError("pendulum.k", "optimal", f"cannot be tuned for a prolate carrier (C = {p.C:.6g} <= "
-                            f"A = {p.A:.6g}): every damper with omega_0 > W makes the nutation grow "
+        raise ScenarioError("pendulum.k", "optimal", f"cannot be tuned for a prolate carrier (its C = {p.C:.6g} <= "
+                            f"A = {p.A:.6g}: body.C, body.A and body.B less the bobs'): every damper with "
+                            "omega_0 > W makes the nutation grow "
                             "(docs/models.md B.5)")
     if p.D == 0:
         raise ScenarioError("pendulum.h", -bob.l, "puts the bob level with the system COM (D = 0): the pendulum "
