@@ -183,3 +183,18 @@ def test_a_bob_placed_beyond_any_carrier_is_blamed_on_its_own_key_not_on_body_a(
         physics.simulate(sc.with_values(**{"pendulum.h": 9.2e18}))
     with pytest.raises(ScenarioError, match=r"^pendulum\.l = 1e\+30: places a bob so far from O"):
         physics.simulate(sc.with_values(**{"pendulum.l": 1e30}))
+
+
+# ---- e. a refusal names the key that was changed, among those it blames (bench/refusals.py) -----------------------
+@pytest.mark.parametrize(("name", "key", "value"), [("oblate_settling", "body.B", 1e-300),
+                                                     ("plane_pendulums_three", "plane_pendulum.azimuth", 1e30),
+                                                     ("plane_pendulums_three", "body.C", 1e-300),
+                                                     ("pendulum_resonant", "body.C", 1e-30)])
+def test_a_refusal_names_the_changed_key(name, key, value):
+    from bench.refusals import names
+
+    with pytest.raises((ScenarioError, physics.IntegrationFault)) as err, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        physics.simulate(physics.Scenario.load(ROOT / "assets" / "scenarios" / f"{name}.toml").with_values(
+            **{key: value}, **{"run.t_end": 1.0}))
+    assert names(str(err.value), key), str(err.value)
