@@ -167,7 +167,8 @@ def test_a_wrong_method_in_run_is_refused_naming_run_method():
 @pytest.mark.parametrize(("name", "key", "value"), [("plane_pendulums_three", "run.t_end", 1e-300),
                                                      ("quadratic_friction", "mass.chi", 1e30),
                                                      ("quadratic_friction", "mass.chi", 1e12),
-                                                     ("prolate_flat_spin", "medium.lambda", 1e30)])
+                                                     ("prolate_flat_spin", "medium.lambda", 1e30),
+                                                     ("pendulum_asymmetric", "pendulum.k", 1e30)])  # at t = 8e-13
 def test_a_fault_before_the_first_step_names_the_changed_key(name, key, value):
     sc = physics.Scenario.load(ROOT / "assets" / "scenarios" / f"{name}.toml").with_values(**{key: value})
     with pytest.raises(physics.IntegrationFault) as err, warnings.catch_warnings():

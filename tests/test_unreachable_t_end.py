@@ -69,3 +69,11 @@ def test_the_command_line_refuses_it_in_one_line(tmp_path):
     assert res.returncode == 2, res.stderr
     assert res.stderr.startswith("error: run.t_end = 100000000.0: the full model would need about ")
     assert res.stderr.count("\n") == 1 and "Traceback" not in res.stderr
+
+
+def test_the_refusal_names_the_extreme_value_that_sets_the_pace(monkeypatch):
+    _no_stepping(monkeypatch)
+    sc = physics.Scenario.load(SCENARIOS / "plane_pendulums_three.toml").with_values(**{"plane_pendulum.k": 9.2e18})
+    with pytest.raises(physics.ScenarioError, match=r"^run\.t_end = 30\.0: .*\(the most extreme value is "
+                                                    r"plane_pendulum\[0\]\.k = 9\.2e\+18\): t_end at most about "):
+        physics.simulate(sc)

@@ -9,6 +9,7 @@ user as one NumericalFault naming the most extreme value, never as a traceback.
 from __future__ import annotations
 
 import math
+import re
 from contextlib import contextmanager
 
 import numpy as np
@@ -54,18 +55,35 @@ def most_extreme(sc, spans: dict[str, tuple[float, float]] | None = None) -> tup
     return best
 
 
+def outlier(sc, spans: dict[str, tuple[float, float]] | None = None) -> tuple[str, object] | None:
+    """``most_extreme`` when that value lies outside the span its key usually takes (for a key with no span, more
+    than OUTLIER_DECADES from 1); None when every value is ordinary."""
+    key, value = most_extreme(sc, spans)
+    if not isinstance(value, (int, float)) or isinstance(value, bool):
+        return None
+    span = {**RUN_SPANS, **(spans or {})}.get(re.sub(r"\[\d+\]", "", key))  # plane_pendulum[0].k: plane_pendulum.k
+    return (key, value) if _decades(float(value), span) > (0.0 if span else OUTLIER_DECADES) else None
+
+
+# a value of a key with no usual span is an outlier this many decades from 1
+OUTLIER_DECADES = 6.0
+# A fault this early in the run (a fraction of run.t_end) is one of the input: the integrator had barely started
+# (pendulum.k = 1e30: a step-size underflow at t = 8e-13 of 120 s), so it is blamed as a fault at t = 0 is.
+EARLY_FRACTION = 1e-9
+
+
 @contextmanager
 def guarded(sc, what: str, spans: dict[str, tuple[float, float]] | None = None):
     """Re-raise an arithmetic or linear-algebra failure inside the block as NumericalFault naming the
     most extreme value of ``sc`` (most_extreme, with ``spans``); so too an integration fault at t = 0 (a
-    step-size underflow or a non-finite state before the first step is a fault of the input, and the
-    user must learn which key); ScenarioError and other IntegrationFaults pass unchanged."""
+    step-size underflow or a non-finite state before the first step, or within EARLY_FRACTION of run.t_end, is a
+    fault of the input, and the user must learn which key); ScenarioError and other IntegrationFaults pass unchanged."""
     try:
         yield
     except NumericalFault:
         raise
     except IntegrationFault as exc:
-        if exc.t != 0.0 or type(exc) is not IntegrationFault:
+        if type(exc) is not IntegrationFault or not exc.t <= EARLY_FRACTION * _t_end(sc):
             raise
         key, value = most_extreme(sc, spans)
         raise NumericalFault(str(exc), key, value) from exc
@@ -76,3 +94,10 @@ def guarded(sc, what: str, spans: dict[str, tuple[float, float]] | None = None):
         detail = str(exc).splitlines()[0][:120] if str(exc) else ""
         raise NumericalFault(f"{what} failed ({type(exc).__name__}{': ' + detail if detail else ''})",
                              key, value) from exc
+
+
+def _t_end(sc) -> float:
+    try:
+        return float(sc.run.t_end)
+    except (AttributeError, TypeError, ValueError):
+        return 0.0

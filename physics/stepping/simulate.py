@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from physics.compiled import fixed  # noqa: F401 - tests replace fixed.run through this module's name
-from physics.core.blame import guarded
+from physics.core.blame import guarded, outlier
 from physics.core.budget import MAX_STEPS
 from physics.core.errors import ScenarioError
 from physics.core.trajectory import Trajectory
@@ -109,9 +109,11 @@ def check_reachable(sc: Scenario, fid: str, steps: dict | None = None) -> None:
     est = steps[fid] if steps and fid in steps else estimated_steps(sc, fid)
     if est is not None and est > REFUSE_FACTOR * MAX_STEPS:
         t_end = float(sc.run.t_end)
+        odd = outlier(sc, spans(sc))
+        cause = f" (the most extreme value is {odd[0]} = {odd[1]!r})" if odd and odd[0] != "run.t_end" else ""
         raise ScenarioError("run.t_end", t_end, f"the {fid} model would need about {est:.3g} steps (estimated "
-                            f"before the run), more than the budget of {MAX_STEPS} steps per run: t_end at most "
-                            f"about {t_end * MAX_STEPS / est:.3g} s")
+                            f"before the run), more than the budget of {MAX_STEPS} steps per run{cause}: t_end at "
+                            f"most about {t_end * MAX_STEPS / est:.3g} s")
 
 
 def stated_error(sc: Scenario, fid: str) -> dict:
