@@ -214,3 +214,22 @@ def test_an_upload_announcing_a_negative_size_or_count_is_refused(app):
 
     _run(app, script)
     assert "-1 parts" in seen["error"] and "neg" not in seen["held"]
+
+
+def test_a_client_cannot_open_viser_s_public_share_tunnel(app, monkeypatch):
+    """viser opens a public tunnel for any client's ShareUrlRequest; the explorer drops the request. A slider's
+    hostile value sent after it shows the connection's messages were handled in order past it."""
+    asked = []
+    monkeypatch.setattr(app.server, "request_share_url", lambda *a, **k: asked.append("share"))
+    monkeypatch.setattr(app.server, "disconnect_share_url", lambda *a, **k: asked.append("disconnect"))
+
+    async def script(ws, session):
+        session.engine.error = None
+        await ws.send(_msg(type="ShareUrlRequest"))
+        await ws.send(_msg(type="ShareUrlDisconnect"))
+        await ws.send(_update(next(iter(session.panel.sliders.values())), "abc"))
+        await asyncio.to_thread(_wait, lambda: session.engine.error and "refused" in session.engine.error)
+        await asyncio.to_thread(app.server._thread_executor.submit(lambda: None).result, 30)
+
+    _run(app, script)
+    assert asked == []

@@ -67,7 +67,7 @@ class Panel:
 
     def _build_gui(self) -> None:
         gui, eng = self.client.gui, self.engine
-        gui.configure_theme(control_width="large")
+        gui.configure_theme(control_width="large", show_share_button=False)  # app.serve.guard.refuse_share_tunnel
         self.status_md = gui.add_markdown("**Quasirigid explorer**")
         self.playbar = Playbar(gui, eng)  # right under the status line: reached without scrolling
         self.readout_md = gui.add_markdown("")

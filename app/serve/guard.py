@@ -65,6 +65,20 @@ def duplicated(headers) -> str | None:
     return None
 
 
+def refuse_share_tunnel(server) -> None:
+    """viser answers any client's ShareUrlRequest by opening a public tunnel to the server through its share
+    backend: one message from a page or a raw client would put an explorer bound to loopback on the internet,
+    past the checks above. The explorer offers no share button (the panel hides viser's), so the requests are
+    dropped: viser ignores a message no handler is registered for. A viser without the handler table is left
+    as it is."""
+    from viser import _messages as msgs
+
+    handlers = getattr(getattr(server, "_websock_server", None), "_incoming_handlers", None)
+    if handlers is not None:
+        for cls in (msgs.ShareUrlRequest, msgs.ShareUrlDisconnect):
+            handlers.pop(cls, None)
+
+
 def install() -> None:
     """Wrap websockets' server factory so that every server made afterwards checks requests first."""
     global _installed

@@ -15,6 +15,7 @@ import viser
 
 import physics
 
+from .guard import refuse_share_tunnel
 from .session import Session
 
 __all__ = ["App", "Session", "warm_up"]
@@ -39,6 +40,7 @@ class App:
 
             share_links()  # the page hands its address and a link's scene to the tab (app.share.link)
         self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
+        refuse_share_tunnel(self.server)
         self.sessions: dict[int, Session] = {}
         self.stats: dict = {}
         # (client id, frames its session published) of the last closed tabs: bench/load.py compares them
