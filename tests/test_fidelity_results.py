@@ -124,3 +124,36 @@ def test_docs_quote_the_study_as_its_files_give_it(meta):
     before = json.loads((RESULTS / "fidelity_before.json").read_text())
     off = before["old_auto_cheaper_off_by_more_than_1e_3"]
     assert f"a cheaper model in {before['old_auto_cheaper']} of them, {off} of which" in text
+
+
+def test_the_summary_reports_the_over_estimate_spread_and_the_coverage_inside_the_conditions():
+    rows = [_row(0, "closed", 1e-3, 0.01, 1.0, "full", est=2e-3), _row(1, "closed", 1e-3, 0.01, 1.0, "full", est=4e-3),
+            _row(2, "closed", 1e-3, 0.01, 1.0, "full", est=math.inf), _row(3, "closed", 1e-3, 0.01, 1.0, "full",
+                                                                          est=math.inf)]
+    for r, inside in zip(rows, (True, "True", "True", "False"), strict=True):  # a CSV's flags are strings
+        r["inside"] = inside
+    g = F.summary(rows)["groups"]["moving_mass/closed"]
+    assert g["inside"] == 3 and g["coverage_inside"] == pytest.approx(2 / 3)  # the fourth is outside: not counted
+    p = g["over_estimate_percentiles"]
+    assert p["50"] == pytest.approx(3.0) and p["100"] == pytest.approx(4.0) and p["10"] == pytest.approx(2.2)
+
+
+def test_auto_share_counts_the_oracles_cheaper_runs_auto_takes_too():
+    rows = [_row(0, "closed", 5e-3, 0.01, 10.0, "closed"), _row(1, "closed", 5e-3, 0.01, 10.0, "full"),
+            _row(2, "closed", 5e-2, 0.01, 10.0, "full")]
+    o = F.oracle(rows, 1e-2)
+    assert o["oracle_cheaper"] == 2 and o["auto_cheaper"] == 1 and o["auto_share"] == pytest.approx(0.5)
+    assert F.oracle(rows, 1e-2, "spherical_pendulum")["scenarios"] == 0
+
+
+def test_rescore_states_todays_estimate_and_keeps_the_measurement():
+    import physics
+    from physics.reference.problems import moving_mass
+
+    sc = moving_mass(0.05, t_end=200.0)
+    row = dict(_row(0, "closed", 1e-4, 0.01, 1.0, "full", est=123.0), scenario=json.dumps(sc.to_dict()))
+    again = F.rescore([row])[0]
+    assert again["estimate"] == physics.derived(sc)["closed_error_bound"] != 123.0
+    assert again["actual_error"] == 1e-4 and again["wall_s"] == 0.01  # the run's own figures stay
+    assert again["ratio"] == pytest.approx(1e-4 / again["estimate"]) and again["inside"] is True
+    assert again["auto_0.001"] in ("full", "averaged", "closed") and row["estimate"] == 123.0  # a copy
