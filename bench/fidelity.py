@@ -9,6 +9,10 @@ today (``<fidelity>_error_bound``, else ``auto_error_bound`` when auto picks tha
 
 Writes ``<out>/fidelity[_quick].csv`` (one row per scenario x cheaper fidelity, skipped scenarios included with
 their reason), ``<out>/fidelity[_quick].meta.json`` (machine, command, counts) and ``<img>/fidelity[_quick].png``.
+The summary gives, per system and fidelity, the over-estimate's spread (percentiles of estimate/actual), the
+coverage (the share of the scenarios inside the cheaper models' own conditions with a finite estimate), and for
+auto at 1e-2 and 1e-3 rad the share of an oracle's cheaper runs it takes too and its wall time against the
+oracle's. ``--rescore CSV`` scores a study's rows again with today's estimates without running any model.
 """
 
 from __future__ import annotations
@@ -54,7 +58,8 @@ N_SLOW = (0.5, 3.0)  # horizon in slow times (moving mass) or linear e-folding t
 COLUMNS = ["index", "system", "kind", "status", "note", "eps", "C_over_A", "B_over_A", "kappa", "eta", "theta0",
            "mass_state", "damping", "cavity", "medium", "braking", "detuning", "n_slow", "t_end", "fidelity",
            "actual_error", "estimate", "estimate_key", "ratio", "auto_fidelity", "auto_0.01", "auto_0.001",
-           "choose_s_0.01", "choose_s_0.001", "wall_full_s", "wall_s", "steps_full_est", "J", "c", "axis3", "scenario"]
+           "choose_s_0.01", "choose_s_0.001", "wall_full_s", "wall_s", "steps_full_est", "J", "c", "axis3", "inside",
+           "scenario"]
 
 
 # ---- the scenario generator (no simulation) ---------------------------------------------------------------
@@ -312,6 +317,20 @@ def full_steps_estimate(sc, desc: dict) -> float:
     return STEPS_PER_PERIOD[desc["system"]] * sc.run.t_end * fast / (2 * math.pi)
 
 
+def inside_conditions(sc) -> bool:
+    """Whether the cheaper models' own conditions hold for ``sc``, those no error estimate is meant to cover: a
+    symmetric body (A = B) for every system, and for the moving mass its structural conditions (a mass at rest whose
+    wobble dies quickly, Re, lambda/|w0|, b/(G0 |w0|); validity.structural_failures). Coverage (``summary``) is
+    the share of these scenarios with a finite estimate."""
+    if abs(sc.body.A - sc.body.B) > 1e-9 * sc.body.A:
+        return False
+    if sc.system == "moving_mass":
+        from physics.systems.moving_mass.validity import structural_failures
+
+        return not structural_failures(sc)
+    return True
+
+
 def _timed(sc, fidelity):
     import physics
 
@@ -370,7 +389,7 @@ def run_case(args) -> list[dict]:
     base = dict(index=index, **{k: desc.get(k, "") for k in keys},
                 eps=d.get("eps", ""), t_end=sc.run.t_end, auto_fidelity=d.get("auto_fidelity", ""),
                 scenario=json.dumps(data, separators=(",", ":")))
-    base.update(steps_full_est=steps, n_slow=n_slow, **auto_picks(sc))
+    base.update(steps_full_est=steps, n_slow=n_slow, inside=inside_conditions(sc), **auto_picks(sc))
     try:
         full, wall_full = _timed(sc, "full")
     except physics.ScenarioError as e:
@@ -405,15 +424,17 @@ def run_case(args) -> list[dict]:
     return rows
 
 
-def oracle(rows: list[dict], acc: float) -> dict:
+def oracle(rows: list[dict], acc: float, system: str | None = None) -> dict:
     """auto's total wall time at accuracy ``acc`` (choosing + running its pick) against an oracle's, which knows
-    the actual errors and runs the cheapest model that meets ``acc`` (the full model when none does)."""
+    the actual errors and runs the cheapest model that meets ``acc`` (the full model when none does); the share
+    of the oracle's cheaper runs auto takes too (``auto_share``). ``system``: only that system's scenarios."""
     by_scen: dict = {}
     for r in rows:
-        if r["status"] in ("ok", "nan", "failed") and r.get("wall_full_s", "") != "":
+        if r["status"] in ("ok", "nan", "failed") and r.get("wall_full_s", "") != "" \
+                and system in (None, r["system"]):
             by_scen.setdefault(r["index"], []).append(r)
     auto_s = oracle_s = 0.0
-    auto_cheap = oracle_cheap = held = 0
+    auto_cheap = oracle_cheap = held = both = 0
     for group in by_scen.values():
         full_s = float(group[0]["wall_full_s"])
         ok = {r["fidelity"]: r for r in group if r["status"] == "ok"}
@@ -429,10 +450,12 @@ def oracle(rows: list[dict], acc: float) -> dict:
             auto_s += ok[pick]["wall_s"]
             auto_cheap += 1
             held += ok[pick]["actual_error"] <= acc
+            both += best is not None
     n = len(by_scen)
     return dict(accuracy=acc, scenarios=n, auto_wall_s=auto_s, oracle_wall_s=oracle_s,
                 auto_over_oracle=auto_s / oracle_s if oracle_s > 0 else None, auto_cheaper=auto_cheap,
-                oracle_cheaper=oracle_cheap, auto_cheaper_within_accuracy=held)
+                oracle_cheaper=oracle_cheap, auto_cheaper_within_accuracy=held,
+                auto_share=both / oracle_cheap if oracle_cheap else None)
 
 
 # ---- chart ---------------------------------------------------------------------------------------------------
@@ -498,11 +521,15 @@ def summary(rows: list[dict]) -> dict:
         finite = [r for r in g if r["estimate"] != "" and math.isfinite(r["estimate"])]
         ratios = [r["actual_error"] / r["estimate"] if r["estimate"] > 0 else math.inf for r in finite]
         over = [r["estimate"] / r["actual_error"] for r in finite if r["actual_error"] > 0]
+        inside = [r for r in g if _flag(r.get("inside", ""))]
         out["groups"][f"{system}/{fid}"] = dict(
             n=len(g), finite_estimate=len(finite), no_claim=sum(r["estimate"] == math.inf for r in g),
             no_estimate=sum(r["estimate"] == "" for r in g),
             worst_actual_over_estimate=max(ratios) if ratios else None,
             median_estimate_over_actual=float(np.median(over)) if over else None,
+            over_estimate_percentiles={str(q): float(np.percentile(over, q)) for q in PERCENTILES} if over else None,
+            inside=len(inside),
+            coverage_inside=(sum(r in finite for r in inside) / len(inside)) if inside else None,
             over_1=sum(x > 1 for x in ratios), median_actual=float(np.median([r["actual_error"] for r in g])))
     scen = {r["index"]: r for r in rows}
     ran = {r["index"]: r for r in ok}
@@ -513,7 +540,69 @@ def summary(rows: list[dict]) -> dict:
     out["auto_cheaper_default"] = sum(r["auto_fidelity"] not in ("full", "") for r in scen.values())
     out["shortened"] = sum("shortened" in str(r.get("note", "")) for r in scen.values())
     out["oracle"] = [oracle(rows, acc) for acc in ACCURACIES]
+    out["oracle_by_system"] = {system: [oracle(rows, acc, system) for acc in ACCURACIES]
+                               for system in sorted({r["system"] for r in rows})}
     return out
+
+
+PERCENTILES = (10, 25, 50, 75, 90, 100)  # of estimate/actual, per system and fidelity (summary)
+
+
+def _flag(x) -> bool:
+    """A CSV's True/False (or a bool) as a bool."""
+    return x is True or x == "True"
+
+
+def rescore(rows: list[dict]) -> list[dict]:
+    """The rows of a study with today's estimates, auto's picks and ``inside``, the runs' measurements (actual
+    error, wall times) kept: a new estimate is scored on a study's scenarios without running any model again.
+    Each scenario is read back from its ``scenario`` column (the horizon as run, shortened or not)."""
+    import physics
+
+    out, done = [], {}
+    for r in rows:
+        r = dict(r)
+        if r["index"] not in done:
+            sc = physics.Scenario.from_dict(json.loads(r["scenario"]))
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                done[r["index"]] = (physics.derived(sc), auto_picks(sc), inside_conditions(sc))
+        d, picks, inside = done[r["index"]]
+        r.update(picks, inside=inside, auto_fidelity=d.get("auto_fidelity", ""))
+        key = f"{r['fidelity']}_error_bound"
+        if r["fidelity"] not in ("", "full"):
+            est = float(d[key]) if key in d else None
+            r.update(estimate="" if est is None else est, estimate_key=key if est is not None else "")
+            if r["status"] == "ok":
+                r["ratio"] = "" if est is None else (r["actual_error"] / est if est > 0 else math.inf)
+        out.append(r)
+    return out
+
+
+def read_rows(path: Path) -> list[dict]:
+    """A study's CSV with its numbers as floats ("inf" an inf: a model that claims nothing) and its flags kept."""
+    with path.open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    for r in rows:
+        for k in ("actual_error", "estimate", "wall_s", "wall_full_s", "choose_s_0.01", "choose_s_0.001", "ratio"):
+            if r.get(k, "") != "":
+                r[k] = float(r[k])
+        r["index"] = int(r["index"])
+    return rows
+
+
+def write(rows: list[dict], meta: dict, out: Path, img: Path, stem: str, title: str) -> dict:
+    """The CSV, the meta JSON (with the summary) and the chart of a study's rows."""
+    out.mkdir(parents=True, exist_ok=True)
+    with (out / f"{stem}.csv").open("w", newline="") as f:
+        w = csv.DictWriter(f, COLUMNS, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: r.get(k, "") for k in COLUMNS})
+    chart(rows, img / f"{stem}.png", title)
+    meta = dict(meta, summary=summary(rows))
+    (out / f"{stem}.meta.json").write_text(json.dumps(meta, indent=2, default=str))
+    return meta
 
 
 def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, command: str,
@@ -533,19 +622,24 @@ def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, comm
             rows.extend(run_case(job))
             print(f"  scenario {job[0] + 1}/{len(jobs)}: {rows[-1]['system']} {rows[-1]['status']}", flush=True)
     stem = ("fidelity_wheel" if system == "wheel" else "fidelity") + ("_quick" if quick else "")
-    out.mkdir(parents=True, exist_ok=True)
-    with (out / f"{stem}.csv").open("w", newline="") as f:
-        w = csv.DictWriter(f, COLUMNS, extrasaction="ignore")
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: r.get(k, "") for k in COLUMNS})
-    chart(rows, img / f"{stem}.png", f"cheaper fidelities against the full model: {len(cases)} scenarios, "
-                                     f"seed {seed} ({command})")
     meta = dict(command=command, quick=quick, n=n, seed=seed, workers=workers,
                 max_full_steps=MAX_STEPS[quick], date=datetime.now(UTC).isoformat(timespec="seconds"),
-                machine=machine(), summary=summary(rows), wall_total_s=time.perf_counter() - start)
-    (out / f"{stem}.meta.json").write_text(json.dumps(meta, indent=2, default=str))
-    return meta
+                machine=machine(), wall_total_s=time.perf_counter() - start)
+    return write(rows, meta, out, img, stem, f"cheaper fidelities against the full model: {len(cases)} scenarios, "
+                                             f"seed {seed} ({command})")
+
+
+def rescore_file(path: Path, out: Path, img: Path, stem: str, command: str) -> dict:
+    """``--rescore``: a study's CSV (and its meta JSON beside it, for the seed and the run's own record) scored
+    again with today's estimates, written as ``<out>/<stem>.{csv,meta.json}`` and ``<img>/<stem>.png``."""
+    rows = rescore(read_rows(path))
+    source = path.with_suffix(".meta.json")
+    before = json.loads(source.read_text()) if source.exists() else {}
+    meta = dict(command=command, rescored_from=dict((k, before.get(k)) for k in ("command", "seed", "n", "date")),
+                quick=before.get("quick", False), n=before.get("n", len({r["index"] for r in rows})),
+                seed=before.get("seed"), date=datetime.now(UTC).isoformat(timespec="seconds"), machine=machine())
+    return write(rows, meta, out, img, stem, f"cheaper fidelities against the full model: {meta['n']} scenarios, "
+                                             f"seed {meta['seed']}, rescored ({command})")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -559,13 +653,24 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--system", choices=("moving_mass", "spherical_pendulum", "wheel"), default=None,
                     help="run only this system's scenarios of the drawn set; wheel: its own set, written to "
                          "fidelity_wheel[_quick].csv")
+    ap.add_argument("--rescore", type=Path, default=None, metavar="CSV",
+                    help="score a study's CSV again with today's estimates and auto, without running any model "
+                         "(the actual errors and wall times are the CSV's); writes <out>/<stem>.csv")
+    ap.add_argument("--stem", default="fidelity_rescored", help="file name stem for --rescore "
+                                                                   "(default fidelity_rescored)")
     a = ap.parse_args(argv)
+    command = " ".join(["python -m bench fidelity", *(argv if argv is not None else [])])
+    if a.rescore is not None:
+        if not a.rescore.is_file():
+            ap.error(f"--rescore must name a study's CSV file, got {a.rescore}")
+        meta = rescore_file(a.rescore, a.out, a.img, a.stem, command)
+        print(json.dumps(meta["summary"], indent=2, default=str))
+        return 0
     n = a.n if a.n is not None else (40 if a.quick else 300)
     if n < 1:
         ap.error(f"--n must be at least 1, got {n}")
     if a.workers < 1:
         ap.error(f"--workers must be at least 1, got {a.workers}")
-    meta = run(n, a.seed, a.quick, a.out, a.img, a.workers,
-               command=" ".join(["python -m bench fidelity", *(argv if argv is not None else [])]), system=a.system)
+    meta = run(n, a.seed, a.quick, a.out, a.img, a.workers, command=command, system=a.system)
     print(json.dumps(meta["summary"], indent=2, default=str))
     return 0

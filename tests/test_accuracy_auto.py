@@ -62,7 +62,9 @@ def test_the_estimate_grows_near_a_sphere_and_with_the_coupling():
     def per_eps2(sc):  # |w0| and so eps depend on C at a fixed G0: compare the coefficient
         return accuracy.delta(sc) / physics.derived(sc)["eps"] ** 2
 
-    assert per_eps2(near) > 1.3 * per_eps2(far)
+    kappa = 0.1 * 1.5**2  # m rho^2 / A of moving_mass's mass
+    assert per_eps2(near) - per_eps2(far) == pytest.approx(accuracy.RATE_SHAPE * kappa * (1 / 0.1 - 1 / 0.5))
+    assert per_eps2(far) > accuracy.RATE_BASE
     light = moving_mass(0.05, C=0.9, theta0=0.3, t_end=HORIZON,
                         extra={"mass": {"m": 0.05, "rho": 1.5, "Omega": 20.0, "chi": 20.0}})
     assert per_eps2(near) > per_eps2(light)

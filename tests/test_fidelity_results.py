@@ -1,84 +1,135 @@
-"""Issue 15's goals, read off the committed calibration study (``python -m bench fidelity --workers 2``, seed 15,
-300 scenarios; bench/results/fidelity.csv and .meta.json), and the study's own arithmetic on hand-made rows.
+"""Issues 15 and 23, read off the committed studies: the calibration study the moving mass's estimate was fitted on
+(``python -m bench fidelity --workers 2``, seed 15, 300 scenarios, scored again with today's estimates by
+``--rescore``: bench/results/fidelity_calibration.csv and .meta.json) and the check on a seed not used to fit
+(bench/results/fidelity.csv and .meta.json); and the study's own arithmetic on hand-made rows.
 
-The estimates were fitted on other seeds (moving mass: 7; pendulum: 101, 202, 303): seed 15 is the check."""
+The pendulum's estimate was fitted on seeds 101, 202, 303 (issue 15); its SAFETY was lowered on seed 15 (issue 23)."""
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from bench import fidelity as F
 
 RESULTS = Path(__file__).resolve().parents[1] / "bench" / "results"
-NUMBERS = ("actual_error", "estimate", "wall_s", "wall_full_s", "choose_s_0.01", "choose_s_0.001")
+STUDIES = {"calibration": "fidelity_calibration", "check": "fidelity"}
+CALIBRATION_SEED = 15
 
 
-def _rows() -> list[dict]:
-    with (RESULTS / "fidelity.csv").open(newline="") as fh:
-        rows = list(csv.DictReader(fh))
-    for r in rows:
-        for k in NUMBERS:
-            if r.get(k, "") != "":
-                r[k] = float(r[k])  # "inf" reads as inf: a cheaper model that claims nothing
-        r["index"] = int(r["index"])
-    return rows
+def _rows(stem: str) -> list[dict]:
+    return F.read_rows(RESULTS / f"{stem}.csv")
+
+
+def _meta(stem: str) -> dict:
+    return json.loads((RESULTS / f"{stem}.meta.json").read_text())
+
+
+@pytest.fixture(scope="module", params=list(STUDIES))
+def study(request):
+    stem = STUDIES[request.param]
+    return request.param, _rows(stem), _meta(stem)
 
 
 @pytest.fixture(scope="module")
 def rows():
-    return _rows()
+    return _rows(STUDIES["check"])
 
 
 @pytest.fixture(scope="module")
 def meta():
-    return json.loads((RESULTS / "fidelity.meta.json").read_text())
+    return _meta(STUDIES["check"])
 
 
-def test_the_committed_study_is_the_full_one(rows, meta):
-    assert meta["n"] >= 300 and meta["seed"] == 15 and not meta["quick"]
+def test_the_check_is_on_a_seed_the_estimates_were_not_fitted_on(rows, meta):
+    calibration = _meta(STUDIES["calibration"])
+    assert calibration["seed"] == CALIBRATION_SEED and calibration["n"] >= 300 and not calibration["quick"]
+    assert meta["seed"] not in (CALIBRATION_SEED, 7, 101, 202, 303) and meta["n"] >= 90
     assert len({r["index"] for r in rows}) == meta["n"]
     assert {r["system"] for r in rows} == {"moving_mass", "spherical_pendulum"}
 
 
-def test_every_stated_estimate_holds(rows):
+def test_every_stated_estimate_holds(study):
+    name, rows, _meta = study
     stated = [r for r in rows if r["status"] == "ok" and r["estimate"] != "" and math.isfinite(r["estimate"])]
-    assert len(stated) >= 150
-    over = [(r["index"], r["fidelity"], r["actual_error"], r["estimate"]) for r in stated
+    assert len(stated) >= 50
+    over = [(name, r["index"], r["fidelity"], r["actual_error"], r["estimate"]) for r in stated
             if r["actual_error"] > r["estimate"]]
     assert not over, over
 
 
-def test_the_estimates_are_useful(rows):
-    """Median estimate/actual at most 10 for every system and fidelity with estimates."""
-    for system, fid in {(r["system"], r["fidelity"]) for r in rows if r["status"] == "ok"}:
-        g = [r for r in rows if (r["system"], r["fidelity"]) == (system, fid) and r["status"] == "ok"
-             and r["estimate"] != "" and math.isfinite(r["estimate"]) and r["actual_error"] > 0]
-        assert g, (system, fid)
-        assert np.median([r["estimate"] / r["actual_error"] for r in g]) <= 10, (system, fid)
+def test_the_check_meets_issue_23s_median_and_the_moving_mass_its_coverage(meta):
+    """On the seed not used to fit: median estimate/actual <= 3 for every system, and an estimate for >= 95 % of
+    the moving-mass scenarios inside the conditions (the pendulum's 70 % and the calibration set's moving-mass
+    median of 3.4 are the gaps docs/models.md states)."""
+    groups = meta["summary"]["groups"]
+    for name, g in groups.items():
+        assert g["median_estimate_over_actual"] <= 3.0, name
+    assert groups["moving_mass/averaged"]["coverage_inside"] >= 0.95
 
 
-def test_auto_is_within_twice_the_oracle_at_the_default_accuracy(meta):
-    """At physics.DEFAULT_ACCURACY (1e-3 rad); the study reports 1e-2 too, where it is ~4x (docs/models.md)."""
-    import physics
-
-    default = [o for o in meta["summary"]["oracle"] if o["accuracy"] == physics.DEFAULT_ACCURACY]
-    assert len(default) == 1 and default[0]["auto_over_oracle"] <= 2.0, default
+def test_no_cheaper_pick_of_auto_misses_its_accuracy(study):
+    _name, _rows, meta = study
     for o in meta["summary"]["oracle"]:
-        assert o["auto_cheaper_within_accuracy"] == o["auto_cheaper"], o  # every cheaper pick met its accuracy
+        assert o["auto_cheaper_within_accuracy"] == o["auto_cheaper"], o
 
 
-def test_the_meta_summary_is_the_csvs(rows, meta):
+def test_the_meta_summary_is_the_csvs(study):
+    _name, rows, meta = study
     again = F.summary(rows)
     for name, group in meta["summary"]["groups"].items():
-        assert again["groups"][name]["worst_actual_over_estimate"] == pytest.approx(
-            group["worst_actual_over_estimate"], rel=1e-9)
+        for key in ("worst_actual_over_estimate", "median_estimate_over_actual", "coverage_inside"):
+            assert again["groups"][name][key] == pytest.approx(group[key], rel=1e-9), (name, key)
         assert again["groups"][name]["finite_estimate"] == group["finite_estimate"]
+
+
+LABELS = {"moving_mass/averaged": "moving mass / averaged and closed",
+          "spherical_pendulum/averaged": "spherical pendulum / averaged"}
+
+
+def estimate_row(study: str, meta: dict, group: str) -> str:
+    """The row docs/models.md quotes for one system and fidelity of a study (its meta file's figures)."""
+    g = meta["summary"]["groups"][group]
+    p = g["over_estimate_percentiles"]
+    spread = " / ".join(f"{p[q]:.2g}" for q in ("25", "50", "75", "90"))
+    return (f"| {study} (seed {meta['seed']}) | {LABELS[group]} | {g['n']} | {g['inside']} | "
+            f"{g['finite_estimate']} ({g['coverage_inside']:.0%}) | {g['over_1']} | "
+            f"{g['worst_actual_over_estimate']:.2f} | {spread} |")
+
+
+def oracle_row(study: str, meta: dict, o: dict, who: str) -> str:
+    share = "-" if o["auto_share"] is None else f"{o['auto_share']:.0%}"
+    return (f"| {study} (seed {meta['seed']}) | {o['accuracy']:g} | {who} | {o['auto_cheaper']} of {o['scenarios']} | "
+            f"{o['oracle_cheaper']} | {share} | {o['auto_cheaper'] - o['auto_cheaper_within_accuracy']} | "
+            f"{o['auto_over_oracle']:.2f} |")
+
+
+def quoted_rows(study: str, meta: dict) -> list[str]:
+    out = [estimate_row(study, meta, g) for g in LABELS]
+    for o in meta["summary"]["oracle"]:
+        out.append(oracle_row(study, meta, o, "both"))
+    for system, entries in meta["summary"]["oracle_by_system"].items():
+        for o in entries:
+            out.append(oracle_row(study, meta, o, system.replace("_", " ")))
+    return out
+
+
+def test_docs_quote_the_studies_as_their_files_give_them(study):
+    """docs/models.md's tables of the studies, made from the meta files at the shown precision."""
+    name, _rows, meta = study
+    text = (RESULTS.parents[1] / "docs" / "models.md").read_text()
+    g = meta["summary"]["groups"]
+    assert estimate_row(name, meta, "moving_mass/averaged") == estimate_row(
+        name, {**meta, "summary": {"groups": {"moving_mass/averaged": g["moving_mass/closed"]}}},
+        "moving_mass/averaged")  # the closed form's figures are the averaged model's: one row says both
+    for row in quoted_rows(name, meta):
+        assert row in text, row
+    before = json.loads((RESULTS / "fidelity_before.json").read_text())
+    off = before["old_auto_cheaper_off_by_more_than_1e_3"]
+    assert f"a cheaper model in {before['old_auto_cheaper']} of them, {off} of which" in text
 
 
 # ---- the study's arithmetic on hand-made rows -----------------------------------------------------------
@@ -108,19 +159,34 @@ def test_the_summary_splits_claims_from_no_claims():
     assert g["median_estimate_over_actual"] == pytest.approx(2.0)
 
 
-def test_docs_quote_the_study_as_its_files_give_it(meta):
-    """docs/models.md's tables of the study, made from the meta file at the shown precision."""
-    text = (RESULTS.parents[1] / "docs" / "models.md").read_text()
-    groups = meta["summary"]["groups"]
-    for name, label in (("moving_mass/averaged", "moving mass / averaged and closed"),
-                        ("spherical_pendulum/averaged", "spherical pendulum / averaged")):
-        g = groups[name]
-        row = (f"| {label} | {g['n']} | {g['finite_estimate']} | {g['worst_actual_over_estimate']:.2f} | "
-               f"{g['median_estimate_over_actual']:.1f} |")
-        assert row in text, row
-    for o in meta["summary"]["oracle"]:
-        assert f"| {o['auto_cheaper']} of {o['scenarios']}, all within it | {o['oracle_cheaper']} | " \
-               f"{o['auto_over_oracle']:.2f} |" in text, o
-    before = json.loads((RESULTS / "fidelity_before.json").read_text())
-    off = before["old_auto_cheaper_off_by_more_than_1e_3"]
-    assert f"a cheaper model in {before['old_auto_cheaper']} of them, {off} of which" in text
+def test_the_summary_reports_the_over_estimate_spread_and_the_coverage_inside_the_conditions():
+    rows = [_row(0, "closed", 1e-3, 0.01, 1.0, "full", est=2e-3), _row(1, "closed", 1e-3, 0.01, 1.0, "full", est=4e-3),
+            _row(2, "closed", 1e-3, 0.01, 1.0, "full", est=math.inf), _row(3, "closed", 1e-3, 0.01, 1.0, "full",
+                                                                          est=math.inf)]
+    for r, inside in zip(rows, (True, "True", "True", "False"), strict=True):  # a CSV's flags are strings
+        r["inside"] = inside
+    g = F.summary(rows)["groups"]["moving_mass/closed"]
+    assert g["inside"] == 3 and g["coverage_inside"] == pytest.approx(2 / 3)  # the fourth is outside: not counted
+    p = g["over_estimate_percentiles"]
+    assert p["50"] == pytest.approx(3.0) and p["100"] == pytest.approx(4.0) and p["10"] == pytest.approx(2.2)
+
+
+def test_auto_share_counts_the_oracles_cheaper_runs_auto_takes_too():
+    rows = [_row(0, "closed", 5e-3, 0.01, 10.0, "closed"), _row(1, "closed", 5e-3, 0.01, 10.0, "full"),
+            _row(2, "closed", 5e-2, 0.01, 10.0, "full")]
+    o = F.oracle(rows, 1e-2)
+    assert o["oracle_cheaper"] == 2 and o["auto_cheaper"] == 1 and o["auto_share"] == pytest.approx(0.5)
+    assert F.oracle(rows, 1e-2, "spherical_pendulum")["scenarios"] == 0
+
+
+def test_rescore_states_todays_estimate_and_keeps_the_measurement():
+    import physics
+    from physics.reference.problems import moving_mass
+
+    sc = moving_mass(0.05, t_end=200.0)
+    row = dict(_row(0, "closed", 1e-4, 0.01, 1.0, "full", est=123.0), scenario=json.dumps(sc.to_dict()))
+    again = F.rescore([row])[0]
+    assert again["estimate"] == physics.derived(sc)["closed_error_bound"] != 123.0
+    assert again["actual_error"] == 1e-4 and again["wall_s"] == 0.01  # the run's own figures stay
+    assert again["ratio"] == pytest.approx(1e-4 / again["estimate"]) and again["inside"] is True
+    assert again["auto_0.001"] in ("full", "averaged", "closed") and row["estimate"] == 123.0  # a copy

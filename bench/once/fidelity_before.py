@@ -2,8 +2,11 @@
 and its old averaged_error_bound, against the actual errors the study measured.
 
     git worktree add /tmp/before f492b95
-    PYTHONPATH=/tmp/before python bench/once/fidelity_before.py bench/results/fidelity.csv \
+    PYTHONPATH=/tmp/before python bench/once/fidelity_before.py bench/results/fidelity_calibration.csv \
         bench/results/fidelity_before.json
+
+(bench/results/fidelity_calibration.csv holds the seed-15 study's scenarios and measurements; it was
+bench/results/fidelity.csv until issue 23 made seed 15 the calibration set.)
 
 Not a bench subcommand (bench/once/ holds one-off comparisons): it must import the old physics, not this tree's.
 """

@@ -134,8 +134,8 @@ def resolve(sc, fidelity: str | None = None, *, warn: bool = False) -> Resolved:
 
 
 # auto's accuracy in theta (rad) when the scenario sets no run.accuracy: the 1e-3 rad the averaged model's
-# validity limits promised before issue 15, and where auto's wall time over the calibration study stays within
-# 2x of an oracle's (at 1e-2 it is 4x: bench/results/fidelity.meta.json)
+# validity limits promised before issue 15, and where auto's wall time over the fidelity studies stays within
+# 1.7x of an oracle's (at 1e-2 it is 2.1x-3.5x: bench/results/fidelity.meta.json, docs/models.md A.5)
 DEFAULT_ACCURACY = 1e-3
 CHEAPEST_FIRST = ("closed", "averaged")
 

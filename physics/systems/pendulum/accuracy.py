@@ -38,7 +38,9 @@ from physics.systems.pendulum.averaged import AveragedCoefficients, averaged_the
 from physics.systems.pendulum.geometry import pendulum_system
 from physics.systems.pendulum.linear import SphericalLinear, spherical_linear, state_matrix, transverse_momentum_matrix
 
-SAFETY = 2.5  # the calibration study's worst actual / (unscaled estimate) was 1.44 (seeds 101-303): docs/models.md
+# the calibration study's worst actual / (unscaled estimate) was 1.44 (seeds 101-303), 1.78 on seed 15 (issue 23):
+# 2.3 brings the median estimate/actual to 2.9 on seed 15 (it was 3.2 at 2.5) and leaves 1.29x beyond the worst
+SAFETY = 2.3
 AMPLITUDE_SHIFT = 0.25  # the pendulum's frequency shift per swing^2, in units of omega_0 (a pendulum's ~a^2/8..a^2/4)
 RATE_SHARE = 0.3  # the decay rate's relative change per shift/g: 0.26 measured at resonance (set R, eps 1/8)
 POINTS_PER_TURN = 8  # grid points per period of the fastest linear frequency, to see the ripple's peaks
