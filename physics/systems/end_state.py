@@ -86,8 +86,12 @@ class NoEndState:
         return False
 
 
-def end_state(sc) -> EndState | NoEndState:
-    """The end state the scene ``sc`` settles in (EndState), or NoEndState with the reason it has none."""
+def end_state(sc, K: np.ndarray | None = None, E: float | None = None) -> EndState | NoEndState:
+    """The end state the scene ``sc`` settles in (EndState), or NoEndState with the reason it has none.
+
+    It settles from the scenario's initial state, or from a running one: ``K`` its total angular momentum in
+    body axes now (kg m^2/s, (3,): |K| and the side of the axis), ``E`` its energy now (J, E0 of the result).
+    """
     b, lam = brake_and_medium(sc)
     if b > 0:
         return NoEndState(f"control.b = {b:g} N m: the braking torque takes |K| to zero, no fixed end state")
@@ -99,15 +103,19 @@ def end_state(sc) -> EndState | NoEndState:
     locked = hook(sc)
     if isinstance(locked, str):
         return NoEndState(locked)
-    return _settle(sc, locked)
+    return _settle(sc, locked, K, E)
 
 
-def _settle(sc, locked: EndLocked) -> EndState:
+def _settle(sc, locked: EndLocked, K_now, E_now) -> EndState:
     model = get_model(sc.system, "full")
     p = model.pack(sc)
     y0 = np.asarray(model.initial_state(sc, p), dtype=float)
     K0, E0 = model.invariants(y0[None, :], p)
     K0, E0 = np.asarray(K0[0], dtype=float), float(E0[0])
+    if K_now is not None:
+        K0 = np.asarray(K_now, dtype=float).reshape(3)
+    if E_now is not None:
+        E0 = float(E_now)
     G = float(np.linalg.norm(K0))
     q0 = y0[list(locked.coords)] if locked.coords else np.zeros(0)
     scale = np.asarray(locked.scale, dtype=float)
