@@ -493,12 +493,31 @@ class Engine:
         return output.plot_data(rows, self.overlay)
 
     def readouts(self) -> dict[str, str]:
-        """What the panel shows, ``name -> value`` (``output.readouts``)."""
-        return output.readouts(self.run, self.world_wxyz, self.edit_dE, self.edit_note)
+        """What the panel shows, ``name -> value`` (``output.readouts``, then ``output.end_readouts``)."""
+        d = output.readouts(self.run, self.world_wxyz, self.edit_dE, self.edit_note)
+        d.update(output.end_readouts(self.end_state(), float(self.run.last.E[0])))
+        return d
 
     def details(self) -> dict[str, str]:
-        """The model and the raw attitude, for the Details folder (``output.details``)."""
-        return output.details(self.run)
+        """The model and the raw attitude, and the end state in words, for the Details folder (``output.details``)."""
+        return {**output.details(self.run), **output.end_details(self.end_state())}
+
+    def end_state(self):
+        """Where the energy sink leads from the run's K now (physics.end_state): an EndState, or a NoEndState
+        with its reason. Worked out again only when the scene or |K| changes (a minimisation over the part's
+        coordinates, up to a few tenths of a second); under braking |K| changes and the answer is at once."""
+        sc, K = self.scenario, self.momentum()
+        G = float(np.linalg.norm(K))
+        cached = getattr(self, "_end", None)
+        if cached is not None and cached[0] is sc and abs(cached[1] - G) <= 1e-9 * max(G, 1e-300):
+            return cached[2]
+        direction = self.sphere_path.now  # K in body axes now: the side of the axis it ends on
+        try:
+            end = physics.end_state(sc, K=None if direction is None else G * direction)
+        except (physics.ScenarioError, ArithmeticError, ValueError) as exc:
+            end = physics.NoEndState(f"not worked out: {exc}")
+        self._end = (sc, G, end)
+        return end
 
     def csv(self) -> bytes:
         """The run from t = 0 as CSV (``output.csv``)."""
