@@ -24,7 +24,7 @@ E_COLOR = "#ff7f0e"  # as app.panel.plots' E chart
 # the pure spins' series names (symbol, then what it is); the legend shows them with the chart's scale
 SPINS = (("K²/2A", "spin about e1"), ("K²/2B", "spin about e2"), ("K²/2C", "spin about e3"))
 END = ("E_end", "where the sink leads")
-END_COLOR = "#2ca02c"
+END_COLOR = "#9467bd"  # as the momentum sphere's end point (app.scene.sphere_view.END_COLOR)
 
 
 def _hex(rgb) -> str:

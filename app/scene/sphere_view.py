@@ -1,7 +1,7 @@
 """The momentum sphere in one tab's scene, beside the body: K's direction in body axes on a translucent sphere,
 the frozen body's polhodes (app.engine.sphere), the separatrix through the intermediate axis, and the path K's tip
 has taken, ending in a ball at K now, and the target the energy sink leads K to (physics.end_state: the axis of
-largest moment of the system locked in its end configuration), a green ball labelled "end", hidden when the
+largest moment of the system locked in its end configuration), a purple ball labelled "end", hidden when the
 scene has no fixed end. The sphere's axes are the body's e1, e2, e3 (e3 up), fixed on screen.
 
 The curves are rebuilt only when A, B, C change; the path is resent only when it grew, at the plots' rate.
@@ -29,7 +29,7 @@ STABLE_COLOR = (40, 110, 200)  # polhodes about the axis of largest moment, wher
 OTHER_COLOR = (235, 150, 40)  # polhodes about the axis of smallest moment
 SEPARATRIX_COLOR = (215, 30, 30)
 AXIS_NAMES = ("e1", "e2", "e3")
-END_COLOR = (44, 160, 44)  # as the E plot's E_end line (app.panel.energy_plot.END_COLOR)
+END_COLOR = (148, 103, 189)  # as the E plot's E_end line (app.panel.energy_plot.END_COLOR) and the legend's
 CURVE_THICKNESS = 0.009  # scene units; the separatrix and K's path are drawn thicker
 
 
