@@ -55,7 +55,9 @@ class EndState:
     axis_fixed: False when the largest moment is repeated (a prolate body of revolution: any axis of the
     transverse plane, ``axis`` is the initial K's projection on it); sign_fixed: the start lies below the
     separatrix, E0 < G^2/(2 I_mid) with the locked inertia at the start, so the motion stays on the initial K's
-    side of the axis; above it (a start near the axis of least moment) the end is +axis or -axis.
+    side of the axis; above it (a start near the axis of least moment) the end is +axis or -axis. Not detected:
+    an end configuration free along a symmetry (a bob swung off the axis of a body of revolution, at any
+    azimuth) fixes the axis only up to that symmetry (its angle to e3, docs/models.md D.2).
     """
 
     axis: np.ndarray
