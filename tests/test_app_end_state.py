@@ -5,6 +5,7 @@ scene has braking."""
 from __future__ import annotations
 
 import math
+import threading
 from types import SimpleNamespace
 
 import numpy as np
@@ -65,6 +66,7 @@ def engine_after(data: dict, frames: int = 20) -> Engine:
     eng = Engine(physics.Scenario.from_dict(data))
     for _ in range(frames):
         eng.tick(FRAME_S)
+    eng.end_state(block=True)  # worked out off the loop thread otherwise: the first frames say "working it out"
     return eng
 
 
@@ -93,6 +95,17 @@ def test_the_readout_plot_line_and_sphere_target_match_physics():
     assert target.visible and scene.nodes["body_sphere/end_label"].visible
     assert np.allclose(target.position, sphere_view.RADIUS * sphere_view.PATH_LIFT * end.axis, atol=1e-9)
     assert np.allclose(end.axis, [0.0, 0.0, 1.0], atol=1e-6)
+
+
+def test_the_end_state_is_worked_out_off_the_loop_and_then_shown():
+    eng = Engine(physics.Scenario.from_dict(TEXTBOOK))
+    eng.tick(FRAME_S)
+    first = eng.readouts()["energy still to lose"]
+    assert first == "working it out..." or first.endswith(" J")  # a fast machine may have it already
+    thread = next((t for t in threading.enumerate() if t.name == "end state"), None)
+    if thread is not None:
+        thread.join(timeout=60)
+    assert eng.readouts()["energy still to lose"].endswith(" J")
 
 
 def test_braking_hides_them_and_says_none():

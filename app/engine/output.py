@@ -45,11 +45,15 @@ def readouts(run, world_wxyz: np.ndarray, edit_dE: float | None, edit_note: str)
     return d
 
 
+END_PENDING = "being worked out"  # the engine's end state while its background thread works it out
+
+
 def end_readouts(end, E_now: float) -> dict[str, str]:
     """The energy still to lose before the end state (physics.EndState): E now minus E_end; "none" when the
     scene has no fixed end (braking, a medium, no dissipation: the Details say which)."""
     if not end:
-        return {"energy still to lose": "none (no fixed end state)"}
+        pending = end.reason == END_PENDING
+        return {"energy still to lose": "working it out..." if pending else "none (no fixed end state)"}
     return {"energy still to lose": f"{max(E_now - end.E_end, 0.0):.6g} J", "E_end": f"{end.E_end:.6g} J"}
 
 
