@@ -47,6 +47,7 @@ from physics.systems.carry import CannotCarry, Carried, carry_state
 from physics.systems.choice import DEFAULT_ACCURACY, choose_fidelity
 from physics.systems.choice import conditions as validity_conditions
 from physics.systems.derived import derived
+from physics.systems.end_state import EndLocked, EndState, NoEndState, end_state
 from physics.systems.moving_mass import closed
 from physics.systems.moving_mass.coefficients import Coefficients, coefficients
 from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium
@@ -60,7 +61,7 @@ __all__ = [
     "METRICS", "Metric", "REGISTRY", "Run", "Scenario", "ScenarioError", "SweepTable", "Trajectory", "ValidityWarning",
     "averaged_conditions", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "sweep",
     "DEFAULT_ACCURACY", "PIVOTS", "carry_state", "choose_fidelity", "closed", "resolved_stiffness", "coefficients",
-    "default_scenario", "derived",
+    "default_scenario", "derived", "end_state", "EndLocked", "EndState", "NoEndState",
     "get_model", "get_system", "initial_G", "load_builtin", "Param", "register_model", "register_system",
     "RegistrationError", "System", "SYSTEMS", "Table", "unregister_system",
     "BASE_FOLDERS", "BASE_PARAMS", "base_values", "brake_and_medium", "edit_dict", "IDENTITY", "qconj", "qmul",

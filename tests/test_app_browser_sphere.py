@@ -10,7 +10,7 @@ import pytest
 from test_app_browser import UI_TIMEOUT, browser, read, wait_until  # noqa: F401 (browser: a fixture)
 from test_app_browser_scene import FIXED_DPR, PIXEL_TOL, app, canvas_png, click, legend, session  # noqa: F401 (app: a fixture)
 
-from app.panel.energy_plot import SPINS, TITLE
+from app.panel.energy_plot import END, SPINS, TITLE
 
 pytestmark = pytest.mark.browser
 np = pytest.importorskip("numpy")
@@ -84,6 +84,17 @@ def test_the_chart_names_the_pure_spins(page):
     text = body_text(page)
     for name in SPINS_SHOWN:
         assert name in text, f"the chart's legend lacks {name!r}"
+
+
+def test_the_chart_has_the_end_state_line_and_the_readout_matches_it(page, app):  # noqa: F811
+    """The default scene dissipates without braking: the chart names its E_end line, and the readouts' E_end
+    is physics.end_state's (app.engine.output.end_readouts prints 6 digits)."""
+    end_name = f"{END[0]} (J): {END[1]}"
+    wait_until(page, lambda: end_name in body_text(page), "the E_end line in the chart's legend")
+    wait_until(page, lambda: read(page, "E_end") != "", "the E_end readout")
+    engine = session(app).engine
+    assert float(read(page, "E_end").split()[0]) == pytest.approx(engine.end_state().E_end, rel=1e-5)
+    assert read(page, "energy still to lose").endswith(" J")
 
 
 def settled_png(page, tries: int = 6):

@@ -493,12 +493,41 @@ class Engine:
         return output.plot_data(rows, self.overlay)
 
     def readouts(self) -> dict[str, str]:
-        """What the panel shows, ``name -> value`` (``output.readouts``)."""
-        return output.readouts(self.run, self.world_wxyz, self.edit_dE, self.edit_note)
+        """What the panel shows, ``name -> value`` (``output.readouts``, then ``output.end_readouts``)."""
+        d = output.readouts(self.run, self.world_wxyz, self.edit_dE, self.edit_note)
+        d.update(output.end_readouts(self.end_state(), float(self.run.last.E[0])))
+        return d
 
     def details(self) -> dict[str, str]:
-        """The model and the raw attitude, for the Details folder (``output.details``)."""
-        return output.details(self.run)
+        """The model and the raw attitude, and the end state in words, for the Details folder (``output.details``)."""
+        return {**output.details(self.run), **output.end_details(self.end_state())}
+
+    def end_state(self, block: bool = False):
+        """Where the energy sink leads from the run's K now (physics.end_state): an EndState, or a NoEndState
+        with its reason. Worked out again only when the scene or |K| changes: a minimisation over the part's
+        coordinates (up to 0.6 s for the moving mass), so in a background thread, the frames going on meanwhile;
+        until it is ready, a NoEndState whose reason is ``output.END_PENDING``. ``block``: wait for it instead.
+        Under braking or a medium |K| changes every frame and the answer (none) is at once."""
+        sc, K = self.scenario, self.momentum()
+        G = float(np.linalg.norm(K))
+        cached = getattr(self, "_end", None)
+        if cached is not None and cached[0] is sc and abs(cached[1] - G) <= 1e-9 * max(G, 1e-300):
+            return cached[2]
+        direction = self.sphere_path.now  # K in body axes now: the side of the axis it ends on
+        K_body = None if direction is None else G * direction
+        if block or any(physics.brake_and_medium(sc)):
+            self._end = (sc, G, _end_state(sc, K_body))
+            return self._end[2]
+        if not getattr(self, "_end_busy", False):
+            self._end_busy = True
+            threading.Thread(target=self._end_work, args=(sc, G, K_body), name="end state", daemon=True).start()
+        return physics.NoEndState(output.END_PENDING)
+
+    def _end_work(self, sc: physics.Scenario, G: float, K_body) -> None:
+        try:
+            self._end = (sc, G, _end_state(sc, K_body))
+        finally:
+            self._end_busy = False  # the next call starts another if the scene or |K| has changed since
 
     def csv(self) -> bytes:
         """The run from t = 0 as CSV (``output.csv``)."""
@@ -514,6 +543,14 @@ class Engine:
     def plot_window(self) -> float:
         """Simulated seconds the plots show at the present warp."""
         return PLOT_POINTS / (SAMPLES_PER_FRAME * FRAME_HZ) * self.warp
+
+
+def _end_state(sc: physics.Scenario, K_body):
+    """physics.end_state, a failure turned into its reason (the loop and the panel must go on)."""
+    try:
+        return physics.end_state(sc, K=K_body)
+    except (physics.ScenarioError, ArithmeticError, ValueError) as exc:
+        return physics.NoEndState(f"not worked out: {exc}")
 
 
 def _edit_names(pending: dict, item: str = "item") -> str:

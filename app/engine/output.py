@@ -45,6 +45,29 @@ def readouts(run, world_wxyz: np.ndarray, edit_dE: float | None, edit_note: str)
     return d
 
 
+END_PENDING = "being worked out"  # the engine's end state while its background thread works it out
+
+
+def end_readouts(end, E_now: float) -> dict[str, str]:
+    """The energy still to lose before the end state (physics.EndState): E now minus E_end; "none" when the
+    scene has no fixed end (braking, a medium, no dissipation: the Details say which)."""
+    if not end:
+        pending = end.reason == END_PENDING
+        return {"energy still to lose": "working it out..." if pending else "none (no fixed end state)"}
+    return {"energy still to lose": f"{max(E_now - end.E_end, 0.0):.6g} J", "E_end": f"{end.E_end:.6g} J"}
+
+
+def end_details(end) -> dict[str, str]:
+    """The end state in words: the final spin and its axis in body axes, or why there is none."""
+    if not end:
+        return {"end state": end.reason}
+    axis = ", ".join(f"{x:.4f}" for x in end.axis)
+    more = "" if end.axis_fixed else " (or any axis of the plane of largest moment)"
+    sign = "" if end.sign_fixed else " (or its opposite)"
+    return {"end state": f"spin {end.spin:.6g} rad/s about [{axis}]{sign}{more} in body axes, I_max = "
+                         f"{end.I_max:.6g} kg m^2"}
+
+
 def details(run) -> dict[str, str]:
     """The technical side of the readouts, for the Details folder: the model and the raw attitude."""
     q = run.last.quat[0]

@@ -119,8 +119,8 @@ def entries(p: SceneParts) -> list[Entry]:
         out.append(Entry("polhode", "trail", (COLORS["polhode"],), "polhode: omega's tip on the ellipsoid"))
     if p.sphere:  # its colours: app.scene.sphere_view (not imported here: it imports this module)
         out.append(Entry("sphere", "trail", (COLORS["K"],), "sphere, lower left: K in body axes, its path"))
-        out.append(Entry("sphere_curves", "line", ((40, 110, 200), (235, 150, 40), (215, 30, 30)),
-                         "on it: energy curves; separatrix (red)"))
+        out.append(Entry("sphere_curves", "line", ((40, 110, 200), (235, 150, 40), (215, 30, 30), (148, 103, 189)),
+                         "on it: curves, separatrix (red), end point"))
     return out
 
 

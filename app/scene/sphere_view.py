@@ -1,6 +1,8 @@
 """The momentum sphere in one tab's scene, beside the body: K's direction in body axes on a translucent sphere,
 the frozen body's polhodes (app.engine.sphere), the separatrix through the intermediate axis, and the path K's tip
-has taken, ending in a ball at K now. The sphere's axes are the body's e1, e2, e3 (e3 up), fixed on screen.
+has taken, ending in a ball at K now, and the target the energy sink leads K to (physics.end_state: the axis of
+largest moment of the system locked in its end configuration), a purple ball labelled "end", hidden when the
+scene has no fixed end. The sphere's axes are the body's e1, e2, e3 (e3 up), fixed on screen.
 
 The curves are rebuilt only when A, B, C change; the path is resent only when it grew, at the plots' rate.
 """
@@ -27,6 +29,7 @@ STABLE_COLOR = (40, 110, 200)  # polhodes about the axis of largest moment, wher
 OTHER_COLOR = (235, 150, 40)  # polhodes about the axis of smallest moment
 SEPARATRIX_COLOR = (215, 30, 30)
 AXIS_NAMES = ("e1", "e2", "e3")
+END_COLOR = (148, 103, 189)  # as the E plot's E_end line (app.panel.energy_plot.END_COLOR) and the legend's
 CURVE_THICKNESS = 0.009  # scene units; the separatrix and K's path are drawn thicker
 
 
@@ -59,7 +62,11 @@ class SphereView:
                                          anchor="bottom-left", visible=False)
         self.path = scene.add_line_segments(f"{self.name}/path", np.zeros((1, 2, 3)), COLORS["K"], thickness=0.02)
         self.tip = scene.add_icosphere(f"{self.name}/tip", radius=0.045, color=COLORS["K"])
+        self.end = scene.add_icosphere(f"{self.name}/end", radius=0.05, color=END_COLOR, visible=False)
+        self.end_label = scene.add_label(f"{self.name}/end_label", "end", font_screen_scale=0.65,
+                                         anchor="bottom-left", visible=False)
         self._moments = None
+        self._end_at: tuple | None = None
         self._drawn = 0  # sets of curves drawn so far
         self._version = -1
 
@@ -104,6 +111,15 @@ class SphereView:
         tip = path.now
         if tip is not None:
             self.tip.position = tuple(RADIUS * PATH_LIFT * tip)
+        end = eng.end_state()
+        set_if_changed(self.end, "visible", bool(end))
+        set_if_changed(self.end_label, "visible", bool(end))
+        if end:
+            at = tuple(float(x) for x in RADIUS * PATH_LIFT * end.axis)
+            if at != self._end_at:
+                self._end_at = at
+                self.end.position = at
+                self.end_label.position = tuple(1.1 * x for x in at)
         if plots_now and path.version != self._version:
             self._version = path.version
             self.path.points = sphere.path_segments(path.values()) * (RADIUS * PATH_LIFT)

@@ -14,6 +14,8 @@ import numpy as np
 
 from physics.core.errors import ScenarioError
 from physics.registry import Param, System, Table, register_system
+from physics.scenario.initial import initial_G
+from physics.systems.end_state import EndLocked
 from physics.systems.moving_mass import closed_model, models  # noqa: F401  (registers the models)
 from physics.systems.moving_mass.accuracy import METHOD, averaged_error_bound, choose
 from physics.systems.moving_mass.figure import ACTIONS, figure
@@ -77,6 +79,21 @@ def braking_time(G: float, b: float, lam: float) -> float:
     from physics.systems.moving_mass.closed import braking_time as T
 
     return T(G, b, lam)
+
+
+def end_locked(sc) -> EndLocked | str:
+    """The end state's coordinates (docs/models.md, "The energy sink's end state"): the mass's displacement u
+    (state entries 3-5, rates 6-8), on the scale of its centrifugal stretch; a cavity alone locks nothing."""
+    ms = sc.mass
+    friction = ms is not None and (ms.chi > 0 or ms.lam_q > 0)
+    if not friction and sc.cavity is None:
+        return ("no dissipation (" + ("mass.chi = 0, mass.lam_q = 0" if ms else "no mass") +
+                ", no cavity): the motion never settles, no end state")
+    if ms is None:
+        return EndLocked()  # the cavity's fluid turns with the body at the end: nothing else moves
+    w0, _, _ = initial_G(sc)
+    stretch = max(ms.rho, 1e-3) * max(float(w0 @ w0) / ms.Omega**2, 1e-6)
+    return EndLocked(coords=(3, 4, 5), rates=(6, 7, 8), scale=(stretch,) * 3, names=("ux", "uy", "uz"))
 
 
 def available(sc, fidelity: str) -> tuple[bool, str]:
@@ -172,5 +189,6 @@ SYSTEM = register_system(System(
     check=check, conditions=averaged_conditions, choose=choose, available=available, derived=derived,
     error_bounds=error_bounds, error_method=METHOD, edit=edit, values=values, amplitude=amplitude,
     parts={PART: STATE}, start_part=start_part, check_run=check_carrier, braking_time=braking_time,
+    end_locked=end_locked,
     quantities=QUANTITIES, initial_keys={"mass_state": "rest"}, figure=figure, actions=ACTIONS,
 ))

@@ -10,6 +10,7 @@ import numpy as np
 
 from physics.core.errors import ScenarioError
 from physics.registry import Param, System, Table, register_system
+from physics.systems.end_state import EndLocked
 from physics.systems.pendulum import averaged, models, validity  # noqa: F401  (registers the models)
 from physics.systems.pendulum.figure import PLANE_ACTIONS, SPHERICAL_ACTIONS, plane_figure, spherical_figure
 from physics.systems.pendulum.params import Pendulum, PlanePendulum
@@ -121,6 +122,26 @@ def plane_amplitude(tr, sc) -> float:
     return float(np.max(np.abs(np.vstack(angles)))) if angles else math.nan
 
 
+END_SWING = 0.1  # rad: the scale of a bob's swing away from its rest, for the end state's search
+
+
+def spherical_end(sc) -> EndLocked | str:
+    """The end state's coordinates (docs/models.md, "The energy sink's end state"): the gimbal angles alpha,
+    beta (state entries 3, 4; rates 5, 6), in the Cardan chart the run starts in."""
+    if sc.pendulum.c_d <= 0:
+        return "no dissipation (pendulum.c_d = 0): the motion never settles, no end state"
+    return EndLocked(coords=(3, 4), rates=(5, 6), scale=(END_SWING, END_SWING), names=("alpha", "beta"))
+
+
+def plane_end(sc) -> EndLocked | str:
+    """The end state's coordinates: each hinge's angle a_i (state entries 3 .. 2 + N; their rates follow)."""
+    n = len(sc.plane_pendulums)
+    if all(b.c_d <= 0 for b in sc.plane_pendulums):
+        return "no dissipation (every plane_pendulum.c_d = 0): the motion never settles, no end state"
+    return EndLocked(coords=tuple(range(3, 3 + n)), rates=tuple(range(3 + n, 3 + 2 * n)), scale=(END_SWING,) * n,
+                     names=tuple(f"a{i + 1}" for i in range(n)))
+
+
 SPHERICAL_EXAMPLE = """\
 # preset: Spherical pendulum damper, resonant
 # Alger's spherical pendulum damper on an oblate body, its spring tuned to the free nutation (seed 002).
@@ -179,6 +200,7 @@ SPHERICAL = register_system(System(
     error_bounds=validity.error_bounds, error_method=validity.METHOD,
     values=lambda sc, item=None: _values(sc, sc.pendulum), amplitude=spherical_amplitude,
     quantities=QUANTITIES, quantity=quantity, figure=spherical_figure, actions=SPHERICAL_ACTIONS,
+    end_locked=spherical_end,
 ))
 
 PLANE = register_system(System(
@@ -191,4 +213,5 @@ PLANE = register_system(System(
         sc, sc.plane_pendulums[item if item is not None and 0 <= item < len(sc.plane_pendulums) else 0]
         if sc.plane_pendulums else None),
     amplitude=plane_amplitude, quantities=QUANTITIES, quantity=quantity, figure=plane_figure, actions=PLANE_ACTIONS,
+    end_locked=plane_end,
 ))

@@ -11,6 +11,7 @@ from physics.core.errors import ScenarioError
 from physics.registry import Condition, Param, System, Table, register_system
 from physics.scenario.initial import initial_G
 from physics.systems.choice import cheapest_within
+from physics.systems.end_state import EndLocked
 from physics.systems.wheel import accuracy, linear, models  # noqa: F401  (registers the models)
 from physics.systems.wheel.figure import figure
 from physics.systems.wheel.params import Wheel
@@ -120,6 +121,14 @@ def values(sc, item=None) -> dict[str, float]:
     return {"wheel.J": w.J, "wheel.c": w.c} if w is not None else dict(ABSENT)
 
 
+def end_locked(sc) -> EndLocked | str:
+    """The end state's coordinates (docs/models.md C.2): none, the wheel's angle moves no mass; its rate
+    Omega_w (state entry 4) is zero at the end."""
+    if sc.wheel.c <= 0:
+        return "no dissipation (wheel.c = 0): the motion never settles, no end state"
+    return EndLocked(rates=(models.STATE.index("Omega_w"),))
+
+
 def amplitude(tr, sc) -> float:
     """The wheel's largest rate relative to the body, max |Omega_w| (rad/s)."""
     Om = tr.internal.get("Omega_w")
@@ -155,5 +164,5 @@ SYSTEM = register_system(System(
     tables=(Table("wheel", Wheel),), example=EXAMPLE, params=PARAMS, folders=(FOLDER,),
     check=check, conditions=conditions, choose=choose, available=available, derived=derived, values=values,
     error_bounds=error_bounds, error_method=accuracy.METHOD,
-    amplitude=amplitude, parts={"wheel": models.WHEEL}, quantities=QUANTITIES, figure=figure,
+    amplitude=amplitude, parts={"wheel": models.WHEEL}, quantities=QUANTITIES, figure=figure, end_locked=end_locked,
 ))
