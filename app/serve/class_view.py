@@ -8,6 +8,12 @@ view's own; the class loop raises them on every view when the engine raised them
 every view reads out of one frame (the plots' arrays from t = 0, the readouts, the details) is computed once per
 frame and shared (``Shared``), so a following tab costs only its drawing and its messages.
 
+The class's 3-D scene is drawn once, in viser's scene shared by every tab (``server.scene``): ``ClassDrawing`` is
+the explorer's ``Drawing`` on that scene, whose messages viser sends to every tab, so a following tab costs no
+Python for its scene. Each tab keeps its own legend (a panel of its own; the class drawing says what it shows,
+``legend_parts``) and its own panel. A tab whose student explores a run of their own hides the class's scene in that
+tab alone (``show_class_scene``).
+
 ``FollowerPanel`` is a student's panel: the status ("following the class"), "Explore from here", the readouts,
 the Details and the plots; no control of the class run.
 """
@@ -24,9 +30,13 @@ from ..panel.compare_plots import ComparePlots
 from ..panel.energy_plot import EnergyChart
 from ..panel.panel import Panel, _details_md, _readout_md
 from ..scene.drawing import Drawing
+from ..scene.legend import LegendView
 from .message_guard import screen_gui_updates
 
 FLAGS = ("scene_changed", "sliders_changed", "plots_changed")
+CLASS_ID = "class"  # the class scene's root is /sclass (a tab's own is /s<client id>: app.scene.drawing)
+CLASS_NODES = (f"/s{CLASS_ID}", f"/s{CLASS_ID}_fill", f"/s{CLASS_ID}_grid")  # its root, light and grid
+CAMERA = dict(position=(3.0, -3.4, 1.9), look_at=(0.0, 0.0, 0.3))  # as a tab of its own starts (Drawing)
 
 
 class Shared:
@@ -133,41 +143,103 @@ class FollowerPanel:
                        f"warp {eng.warp:.3g}x{away}")
 
 
+class _Camera:
+    """The shared scene has no camera of its own: each tab's is set when it joins (``place_camera``)."""
+
+    position = look_at = None
+
+
+class _Legend:
+    """The class drawing's legend: what it would show, kept for every tab's own legend."""
+
+    parts = None
+
+    def show(self, parts) -> None:
+        self.parts = parts
+
+
+class _Everyone:
+    """What ``Drawing`` needs of a client, for the scene every tab shares."""
+
+    client_id = CLASS_ID
+
+    def __init__(self, server: viser.ViserServer):
+        self.scene = server.scene
+        self.camera = _Camera()
+        self.gui = None
+
+
+class ClassDrawing(Drawing):
+    """The explorer's Drawing of the class run in viser's shared scene (``server.scene``): drawn once a frame
+    for every tab; its legend is handed to each tab's own (``legend_parts``)."""
+
+    def __init__(self, server: viser.ViserServer, view: EngineView):
+        self.client = _Everyone(server)
+        self.engine = view
+        self.legend = _Legend()
+        self._build_scene()
+
+    @property
+    def legend_parts(self):
+        return self.legend.parts
+
+
+def place_camera(client: viser.ClientHandle) -> None:
+    client.camera.position = CAMERA["position"]
+    client.camera.look_at = CAMERA["look_at"]
+
+
+def show_class_scene(client: viser.ClientHandle, shown: bool) -> None:
+    """Show or hide the class's scene in this tab alone (a student exploring a run of their own draws theirs):
+    a visibility update of the shared nodes, sent to this tab's connection only."""
+    from viser import _messages
+
+    for name in CLASS_NODES:
+        client._websock_connection.queue_message(
+            _messages.SceneNodeUpdateMessage(name=name, updates={"visible": shown}, owner=""))
+
+
 class FollowerView:
-    """A student's tab following the class: its own scene and a read-only panel over an EngineView."""
+    """A student's tab following the class: the shared scene, its own legend and a read-only panel."""
 
     role = "student"
 
-    def __init__(self, client: viser.ClientHandle, engine: Engine, shared: Shared, on_explore):
+    def __init__(self, client: viser.ClientHandle, engine: Engine, shared: Shared, drawing: ClassDrawing,
+                 on_explore):
         self.client = client
         self.view = EngineView(engine, shared)
+        self.drawing = drawing
         self.panel = FollowerPanel(client, self.view, on_explore)
-        self.drawing = Drawing(client, self.view)
+        self.legend = LegendView(client.gui)
+        place_camera(client)
         self.published = 0
 
     def publish(self, fr, plots_now: bool, lecturer_here: bool) -> None:
         self.view.raise_flags()
         with self.client.atomic():
-            self.drawing.update(fr, plots_now)
             self.panel.update(fr, plots_now, lecturer_here)
+            if plots_now and self.drawing.legend_parts is not None:
+                self.legend.show(self.drawing.legend_parts)
         self.published += 1
 
 
 class LecturerView:
-    """The lecturer's tab: the explorer's whole panel and scene over an EngineView of the class engine; its
-    callbacks queue requests on the class engine, which the class loop applies."""
+    """The lecturer's tab: the explorer's whole panel over an EngineView of the class engine, and the shared
+    scene; its callbacks queue requests on the class engine, which the class loop applies."""
 
     role = "lecturer"
 
-    def __init__(self, client: viser.ClientHandle, engine: Engine, shared: Shared):
+    def __init__(self, client: viser.ClientHandle, engine: Engine, shared: Shared, drawing: ClassDrawing):
         from .upload_cap import cap_streamed_uploads
 
         self.client = client
         self.view = EngineView(engine, shared)
+        self.drawing = drawing
         self.panel = Panel(client, self.view, restore=False)
+        self.legend = LegendView(client.gui)
         cap_streamed_uploads(client.gui, self._refuse)
         screen_gui_updates(client.gui, self._refuse)
-        self.drawing = Drawing(client, self.view)
+        place_camera(client)
         self.published = 0
 
     def _refuse(self, message: str) -> None:
@@ -176,8 +248,9 @@ class LecturerView:
     def publish(self, fr, plots_now: bool, lecturer_here: bool) -> None:
         self.view.raise_flags()
         with self.client.atomic():
-            self.drawing.update(fr, plots_now)
             self.panel.update(fr, plots_now)
+            if plots_now and self.drawing.legend_parts is not None:
+                self.legend.show(self.drawing.legend_parts)
         self.published += 1
 
 
@@ -187,4 +260,5 @@ def waiting_note(client: viser.ClientHandle):
                                    "run as soon as the lecturer opens it")
 
 
-__all__ = ["EngineView", "FollowerPanel", "FollowerView", "LecturerView", "Shared", "waiting_note"]
+__all__ = ["CLASS_NODES", "ClassDrawing", "EngineView", "FollowerPanel", "FollowerView", "LecturerView", "Shared",
+           "show_class_scene", "waiting_note"]

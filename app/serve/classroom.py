@@ -1,8 +1,9 @@
 """Class mode (``python -m app --class``): one run, driven by the lecturer's tab, followed live by every student's.
 
 The class has one engine and one loop thread (``ClassRoom._loop``): the run is integrated once per frame, however
-many tabs follow it, and each frame is published to every tab's view in turn (app.serve.class_view), inside that
-tab's ``client.atomic()``. A following tab costs its share of this fan-out: its scene's messages and, at the plots'
+many tabs follow it. The class's 3-D scene is drawn once a frame in viser's scene that every tab shares, and then
+each tab's view (app.serve.class_view) shows the frame's numbers in its own panel, inside its ``client.atomic()``.
+A following tab costs its share of this fan-out: viser's sending of the shared scene's messages and, at the plots'
 rate, its panel's.
 
 Who drives: the lecturer's link carries a key (``secrets.token_urlsafe``); the page's script puts the link's
@@ -39,7 +40,7 @@ from ..engine.clock import PLOT_HZ
 from ..engine.engine import Engine
 from ..engine.frame import non_finite
 from ..share.link import CLASS_KEY
-from .class_view import FollowerView, LecturerView, Shared, waiting_note
+from .class_view import ClassDrawing, EngineView, FollowerView, LecturerView, Shared, show_class_scene, waiting_note
 from .pace import Pace
 from .session import CROWD_PLOT_HZ, Session
 
@@ -48,6 +49,7 @@ ROLE_TIMEOUT = 5.0  # s to wait for a tab's storage to say whether it carries th
 MAX_KEY_CHARS = 200  # of a class parameter compared with the key (the page's script cuts it there too)
 GONE_KEPT = 10_000  # closed tabs remembered (their ids), so one closing while it joins gets no view
 JOINS_PER_FRAME = 1  # views built between two frames: a crowd joining at once slows the class's frames a little
+PLOT_FRAMES = 4  # at most one frame in this many carries the plots: a slow machine's frames stay light
 FOLLOW = "Follow the class"
 
 
@@ -62,6 +64,7 @@ class ClassRoom:
         self.key = key or secrets.token_urlsafe(KEY_BYTES)
         self.engine: Engine | None = None  # made when the lecturer first opens the class (or ``open``)
         self.shared: Shared | None = None
+        self.drawing: ClassDrawing | None = None  # the class's scene, in viser's scene every tab shares
         self.views: dict[int, object] = {}  # client id -> its view; the loop's alone
         self.explorers: dict[int, Session] = {}  # client id -> the student's own run
         self.waiting: dict[int, tuple] = {}  # client id -> (client, the note), before the class opens
@@ -160,6 +163,7 @@ class ClassRoom:
         """A Session on the copied engine, in the tab the follower view left (off the loop thread)."""
         try:
             _clear(client)
+            show_class_scene(client, False)
             session = Session(self.server, client, None, self.stats, engine=engine)
             back = session.follow_button = client.gui.add_button(
                 FOLLOW, hint="leave your own run and follow the class run again",
@@ -182,6 +186,7 @@ class ClassRoom:
             return
         self._end_session(session)
         _clear(client)
+        show_class_scene(client, True)
         with self._lock:
             if client.client_id not in self._gone:
                 self._joins.append((client, "student"))
@@ -209,9 +214,9 @@ class ClassRoom:
             self.views.pop(cid, None)
         for client, role in joins:
             if role == "lecturer":
-                self.views[client.client_id] = LecturerView(client, self.engine, self.shared)
+                self.views[client.client_id] = LecturerView(client, self.engine, self.shared, self.drawing)
             else:
-                self.views[client.client_id] = FollowerView(client, self.engine, self.shared,
+                self.views[client.client_id] = FollowerView(client, self.engine, self.shared, self.drawing,
                                                             lambda c=client: self.explore(c))
         for client in explores:
             if client.client_id not in self.views:
@@ -231,8 +236,10 @@ class ClassRoom:
 
     def _loop(self) -> None:
         eng, shared = self.engine, self.shared
+        self.drawing = ClassDrawing(self.server, EngineView(eng, shared))
         last = deadline = time.perf_counter()
         next_plot = 0.0
+        since_plot = PLOT_FRAMES
         last_good = None
         while not self.stop.is_set():
             now = time.perf_counter()
@@ -249,8 +256,10 @@ class ClassRoom:
                     last_good = fr
                 shared.take_flags()
                 crowded = self.pace.crowded(len(self.views))
-                plots_now = now >= next_plot
+                since_plot += 1
+                plots_now = now >= next_plot and since_plot >= PLOT_FRAMES
                 if plots_now:
+                    since_plot = 0
                     next_plot = now + 1.0 / (CROWD_PLOT_HZ if crowded else PLOT_HZ)
                 if fr is not None:
                     self._publish(fr, plots_now)
@@ -275,6 +284,9 @@ class ClassRoom:
                 deadline = time.perf_counter()
 
     def _publish(self, fr, plots_now: bool) -> None:
+        self.drawing.engine.raise_flags()
+        with self.server.atomic():  # the class's scene, once for every tab
+            self.drawing.update(fr, plots_now)
         views = list(self.views.items())
         lecturer_here = any(v.role == "lecturer" for _, v in views)
         for cid, view in views:
