@@ -24,6 +24,9 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
                     "default only the explorer's own page may connect, so other sites cannot drive it")
     ap.add_argument("--mesh", metavar="FILE", help="draw the body as this closed mesh (STL, OBJ, PLY, GLB...); its "
                     "inertia, as a uniform solid of the scenario's mass M, replaces A, B, C")
+    ap.add_argument("--class", dest="class_mode", action="store_true",
+                    help="class mode: one run that the lecturer's tab drives and every student's tab follows; prints "
+                    "the lecturer's link (it carries a key: keep it to yourself) and the students' link")
     return ap.parse_args(argv)
 
 
@@ -94,9 +97,13 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     from .serve.server import App, warm_up
 
-    app = App(scenario=scenario, mesh=mesh, server=server)
+    app = App(scenario=scenario, mesh=mesh, server=server, class_mode=args.class_mode)
     warm_up()
     print(f"Quasirigid explorer ready in {time.perf_counter() - start:.1f} s: {url}", flush=True)
+    if app.classroom is not None:
+        lecturer, students = app.classroom.links(url)
+        print(f"lecturer: {lecturer}", flush=True)
+        print(f"students: {students}", flush=True)
     try:
         while True:
             time.sleep(3600)

@@ -17,6 +17,7 @@ STUDIES = {
     "soak": ("soak", "the explorer served for N minutes: the server's memory growth"),
     "load": ("load", "the explorer served to several websocket clients: updates per second, memory"),
     "refusals": ("refusals", "extreme-value edits of the shipped scenarios: refusals that do not name their key"),
+    "class": ("classroom", "class mode: N student tabs following the lecturer's run: updates/s, memory, edit latency"),
     "hostile": ("hostile", "hostile values from a raw websocket client to every control: server tracebacks, memory"),
     "explorer-rates": ("explorer_rates", "frames per second, achieved warp and slider latency of the explorer"),
     "fidelity": ("fidelity", "cheaper fidelities' actual theta error against their stated estimate (issue 15)"),

@@ -25,9 +25,10 @@ class App:
     """The server and its sessions."""
 
     def __init__(self, host: str = "127.0.0.1", port: int = 8080, scenario: physics.Scenario | None = None,
-                 mesh=None, server: viser.ViserServer | None = None):
+                 mesh=None, server: viser.ViserServer | None = None, class_mode: bool = False):
         """``server``: one already serving (``python -m app`` starts it before loading the physics, so a
-        browser fetches the page meanwhile); tabs that connected before are served now."""
+        browser fetches the page meanwhile); tabs that connected before are served now. ``class_mode``: one run
+        for every tab, driven by the lecturer's (``self.classroom``, app.serve.classroom)."""
         self.scenario = scenario
         self.mesh = mesh
         # a tab's last frame can race its disconnection; viser then warns that the message is dropped
@@ -46,10 +47,18 @@ class App:
         # (client id, frames its session published) of the last closed tabs: bench/load.py compares them
         # with what each client received; bounded, so a server up for days keeps no record per tab
         self.closed_frames: deque[tuple[int, int]] = deque(maxlen=1000)
+        self.classroom = None
+        if class_mode:
+            from .classroom import ClassRoom
+
+            self.classroom = ClassRoom(self.server, scenario, mesh, self.stats)
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
 
     def _connect(self, client: viser.ClientHandle) -> None:
+        if self.classroom is not None:
+            self.classroom.connect(client)
+            return
         try:
             self.sessions[client.client_id] = Session(self.server, client, self.scenario, self.stats, self.mesh)
             self.stats["sessions"] = len(self.sessions)
@@ -58,6 +67,9 @@ class App:
             traceback.print_exc()
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
+        if self.classroom is not None:
+            self.classroom.disconnect(client)
+            return
         s = self.sessions.pop(client.client_id, None)
         self.stats["sessions"] = len(self.sessions)
         if s is not None:
@@ -76,6 +88,8 @@ class App:
         return self.server.get_port()
 
     def close(self) -> None:
+        if self.classroom is not None:
+            self.classroom.close()
         for s in list(self.sessions.values()):
             s.close()
         self.server.stop()

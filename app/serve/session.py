@@ -30,14 +30,14 @@ class Session:
     """One browser tab."""
 
     def __init__(self, server: viser.ViserServer, client: viser.ClientHandle, scenario: physics.Scenario | None,
-                 stats: dict, mesh=None):
+                 stats: dict, mesh=None, engine: Engine | None = None):
         self.server = server
         self.client = client
         self.stats = stats
         # brief: on a machine without the compiled kernels the scene starts on their interpreted twins at once
         note = client.gui.add_markdown("**Quasirigid explorer** · preparing the scene...")
-        try:
-            self.engine = Engine(scenario, mesh=mesh)
+        try:  # ``engine``: one made already (class mode's "Explore from here", app.serve.classroom)
+            self.engine = engine if engine is not None else Engine(scenario, mesh=mesh)
         finally:
             note.remove()
         self.stop = threading.Event()
@@ -47,7 +47,7 @@ class Session:
         self.frame_ms: deque = deque(maxlen=600)  # (tick, publish) wall ms of recent frames
         self.pace = Pace()  # how often to publish, from what a frame costs and how many tabs there are
         # a server started on a scenario or mesh of its own shows that, not the browser's last scene
-        self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None)
+        self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None and engine is None)
         cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
         screen_gui_updates(client.gui, self._refuse_value)  # a value that does not fit its control never reaches viser
         self.drawing = Drawing(client, self.engine)

@@ -4,8 +4,9 @@ viser passes no URL parameter to Python (its websocket handshake asks for ``/`` 
 it lets the server read the browser's storage (``client.local_storage``, viser 1.1). So the page viser serves
 gets a few lines of script, run before viser's client starts, that copy the page's address and its ``scene``
 parameter into that storage, under viser's prefix for the keys it reads; the session reads them when the tab
-connects (``app.share.panel``). The script is the same text for every request: nothing from the request is
-written into the page, so a crafted address cannot inject markup.
+connects (``app.share.panel``). Class mode's ``class`` parameter (the lecturer's key) goes there too, or is
+removed when the address has none (app.serve.classroom reads it). The script is the same text for every
+request: nothing from the request is written into the page, so a crafted address cannot inject markup.
 
 Like ``app.serve.guard``, this wraps ``websockets.asyncio.server.serve`` once, before the server starts, and changes
 only the HTML page viser returns (whatever wraps the same function, the guard's refusals pass through as they
@@ -20,14 +21,19 @@ import threading
 STORAGE_PREFIX = "viser-user:"  # viser 1.1's prefix for the keys client.local_storage reads (read in a browser)
 PAGE_KEY = "quasirigid.page"  # the page's own address (origin and path), for the link the Share button shows
 LINK_KEY = "quasirigid.link"  # the scene parameter of the address the tab was opened with
+CLASS_KEY = "quasirigid.class"  # class mode: the class parameter of the address (the lecturer's key), or none
+MAX_CLASS_CHARS = 200  # what the script copies of a class parameter (a key is 22 characters)
 MAX_LINK_CHARS = 100_000  # what the script copies of a scene parameter (app.share.code.MAX_CODE_CHARS)
 
 SCRIPT = f"""<script>/* Quasirigid (app/share/link.py): the page's address and its scene parameter, for the server */
 (function () {{
   try {{
-    var s = window.localStorage, code = new URLSearchParams(window.location.search).get("scene");
+    var s = window.localStorage, q = new URLSearchParams(window.location.search), code = q.get("scene"),
+        klass = q.get("class");
     s.setItem("{STORAGE_PREFIX}{PAGE_KEY}", window.location.origin + window.location.pathname);
     if (code !== null) s.setItem("{STORAGE_PREFIX}{LINK_KEY}", code.slice(0, {MAX_LINK_CHARS}));
+    if (klass !== null) s.setItem("{STORAGE_PREFIX}{CLASS_KEY}", klass.slice(0, {MAX_CLASS_CHARS}));
+    else s.removeItem("{STORAGE_PREFIX}{CLASS_KEY}");
   }} catch (e) {{}}
 }})();
 </script>""".encode()
@@ -168,5 +174,5 @@ def install() -> None:
         _installed = True
 
 
-__all__ = ["LINK_KEY", "MAX_REQUEST_LINE", "PAGE_KEY", "SCRIPT", "STORAGE_PREFIX", "install", "link_too_long",
-           "with_script"]
+__all__ = ["CLASS_KEY", "LINK_KEY", "MAX_REQUEST_LINE", "PAGE_KEY", "SCRIPT", "STORAGE_PREFIX", "install",
+           "link_too_long", "with_script"]

@@ -1,0 +1,135 @@
+"""Class mode in a real browser (issue 25, point 1): ``python -m app --class``, the lecturer's tab and two
+students' tabs, each in a browser context of its own (its own storage, as on three machines). A student who
+comes first waits for the lecturer; both then follow the lecturer's preset and pause in their readouts; a
+student's page has no control of the class run; "Explore from here" and "Follow the class". Everything is
+read from the pages. Screenshots of a student's tab go to the folder in QUASIRIGID_SHOTS, when it is set."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_app_browser import (  # noqa: E402  (chromium, once per module)
+    ROOT,
+    START_TIMEOUT,
+    browser,
+    click,
+    control_id,
+    read,
+    readouts,
+    wait_until,
+)
+
+pytestmark = pytest.mark.browser
+__all__ = ["browser"]  # a fixture, used by name
+
+PRESET = "Oblate body settling"  # any preset but the default one
+STATUS_JS = """() => {
+    for (const p of document.querySelectorAll('p')) if (p.innerText.includes('Quasirigid')) return p.innerText;
+    return '';
+}"""
+
+
+WAIT_MS = 120_000  # three tabs rendering in software WebGL on a loaded machine answer slowly
+
+
+def wait(page, predicate, what: str):
+    return wait_until(page, predicate, what, WAIT_MS)
+
+
+def status(page) -> str:
+    return page.evaluate(STATUS_JS)
+
+
+@pytest.fixture(scope="module")
+def links():
+    proc = subprocess.Popen([sys.executable, "-m", "app", "--class", "--port", "0"], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    found: dict[str, str] = {}
+    try:
+        for line in proc.stdout:
+            m = re.fullmatch(r"(lecturer|students): (\S+)\n?", line)
+            if m:
+                found[m.group(1)] = m.group(2)
+            if len(found) == 2:
+                break
+        assert len(found) == 2, found
+        yield found
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+
+
+def open_tab(browser, url: str, viewport: dict | None = None):
+    page = browser.new_page(viewport=viewport or {"width": 1400, "height": 900})  # a context of its own
+    page.set_default_timeout(int(1e3 * START_TIMEOUT))
+    page.goto(url)
+    wait_until(page, lambda: "Quasirigid" in status(page), "the page's first words", int(1e3 * START_TIMEOUT))
+    return page
+
+
+def choose_now(page, label: str, option: str) -> None:
+    """``choose``, without waiting for the list to stop moving (three tabs in software WebGL animate it slowly)."""
+    page.locator(f'[id="{control_id(page, label)}"]').click()
+    page.get_by_role("option", name=option, exact=True).click(force=True)
+
+
+def shot(page, name: str) -> None:
+    folder = os.environ.get("QUASIRIGID_SHOTS")
+    if folder:
+        page.screenshot(path=str(Path(folder) / name))
+
+
+def test_a_class_lecturer_and_two_students(browser, links):
+    early = open_tab(browser, links["students"])
+    wait(early, lambda: "waiting for the lecturer" in status(early), "the early student waits")
+    lecturer = open_tab(browser, links["lecturer"])
+    wait(lecturer, lambda: "fidelity = " in readouts(lecturer), "the lecturer's readouts")
+    wait(early, lambda: "following the class" in status(early), "the early student follows")
+    late = open_tab(browser, links["students"], {"width": 1024, "height": 768})
+    wait(late, lambda: "following the class" in status(late) and "fidelity = " in readouts(late),
+               "the late student follows")
+    students = (early, late)
+    assert "Quasirigid explorer" in status(lecturer)  # the lecturer has the explorer's panel
+
+    choose_now(lecturer, "Preset", PRESET)  # the lecturer's preset and pause, in every student's readouts
+    for page in students:
+        wait(page, lambda page=page: f"preset: {PRESET}" in readouts(page), "the lecturer's preset")
+    click(lecturer, "Pause")
+    for page in students:
+        wait(page, lambda page=page: "· paused" in status(page), "the lecturer's pause")
+    wait(lecturer, lambda: all(read(p, "t") == read(lecturer, "t") for p in students),
+               "the students' t is the lecturer's")
+    shot(early, "class_student_1400x900.png")
+    shot(late, "class_student_1024x768.png")
+
+    for page in students:  # no control of the class run on a student's page
+        for name in ("Pause", "Play", "Reset"):
+            assert page.get_by_role("button", name=name, exact=True).count() == 0
+        assert page.locator("label", has_text="Preset").count() == 0
+        assert page.locator("[role=slider]").count() == 0
+
+    t_class = read(lecturer, "t")
+    click(early, "Explore from here")  # a run of one's own from the class's present, with every control
+    wait(early, lambda: "Quasirigid explorer" in status(early) and "fidelity = " in readouts(early),
+               "the student's own run")
+    assert early.get_by_role("button", name="Follow the class", exact=True).count() == 1
+    assert f"preset: {PRESET}" in readouts(early)
+    assert float(read(early, "t").split()[0]) >= float(t_class.split()[0])
+    shot(early, "class_student_exploring_1400x900.png")
+    click(early, "Play")
+    assert "· paused" in status(late) and read(late, "t") == t_class  # the class run did not move
+    click(early, "Follow the class")
+    wait(early, lambda: "following the class" in status(early) and read(early, "t") == t_class,
+               "following the class again")
+    for page in (early, late, lecturer):
+        page.close()
