@@ -32,6 +32,7 @@ OPTIONS = {
     "load": ["--clients", "--minutes", "--warmup", "--out"],
     "hostile": ["--rounds", "--settle", "--seed", "--out"],
     "refusals": ["--wall", "--out"],
+    "class": ["--tabs", "--minutes", "--warmup", "--edit-every", "--out"],
     "explorer-rates": ["seconds", "--out", "--img", "--chart-only", "--compare"],
     "fidelity": ["--quick", "--n", "--seed", "--out", "--img", "--workers", "--system"],
     "corrections": ["--out"],
