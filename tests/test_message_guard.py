@@ -15,7 +15,7 @@ from test_security_upload_stream import _msg  # viser's wire format, as that fil
 from viser import _messages as msgs
 from websockets.asyncio.client import connect
 
-from app.serve.message_guard import refusal, well_formed
+from app.serve.message_guard import refusal, screen_gui_updates, well_formed
 from app.studies.sweep_panel import DEFAULT_POINTS, MAX_POINTS
 
 
@@ -233,3 +233,14 @@ def test_a_client_cannot_open_viser_s_public_share_tunnel(app, monkeypatch):
 
     _run(app, script)
     assert asked == []
+
+
+def test_screening_a_tab_again_replaces_its_screen_and_the_last_refusal_callback_hears():
+    """Class mode builds a new view on a tab at each explore and follow, screening its messages again."""
+    inner = []
+    gui = SimpleNamespace(_websock_interface=SimpleNamespace(_incoming_handlers={msgs.GuiUpdateMessage: [inner]}),
+                          _gui_input_handle_from_uuid={})
+    for _cycle in range(5):
+        screen_gui_updates(gui, lambda why: None)
+    (screen,) = gui._websock_interface._incoming_handlers[msgs.GuiUpdateMessage]
+    assert screen.screens == [inner]  # viser's own handler, once, under the one screen

@@ -94,7 +94,9 @@ def screen_gui_updates(gui, refused) -> None:
     cls = getattr(msgs, "GuiUpdateMessage", None)
     if handlers is None or inputs is None or cls is None:
         return
-    inner = list(handlers.get(cls, []))
+    # screened again (class mode's explore and follow build a new view on the same tab), the new screen replaces
+    # the old one: stacked, each cycle would add a layer the tab's every message passes through
+    inner = [cb for current in handlers.get(cls, []) for cb in getattr(current, "screens", [current])]
 
     async def screened(client_id, message) -> None:
         uuid = message.uuid
@@ -114,6 +116,7 @@ def screen_gui_updates(gui, refused) -> None:
             if inspect.isawaitable(out):
                 await out
 
+    screened.screens = inner
     handlers[cls] = [screened]
 
 
