@@ -183,7 +183,8 @@ def _frame(q: np.ndarray, theta: float, spin: np.ndarray) -> np.ndarray:
 def _general_from(Y: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     w = Y[:, 0:3]
     theta, phi = _body_angles(w, p)
-    return w, _euler(Y[:, 4:8], Y[:, 3], theta, _about_z(phi))
+    # phi unwrapped along the rows: a jump of 2 pi would flip the quaternion's sign from one row to the next
+    return w, _euler(Y[:, 4:8], Y[:, 3], theta, _about_z(np.unwrap(phi)))
 
 
 def _general_to(yc: np.ndarray, p: np.ndarray) -> np.ndarray:
