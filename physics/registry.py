@@ -116,6 +116,21 @@ class Condition:
 
 
 @dataclass(frozen=True)
+class Chart:
+    """How a model whose state is not laid out as (omega, internal, attitude, ...) reads as one that is.
+
+    A carry across models (physics/systems/carry.py) matches states by name and solves for omega at a kept
+    attitude; a model that integrates other coordinates (the moving mass's averaged model: K's fixed inertial
+    frame and the precession phase, so that K cannot turn) gives its ``state`` in that layout (``"wx" ... "qz"``)
+    and the two maps: ``from_native(Y (n, m), p) -> (n, len(state))`` and ``to_native(y, p) -> y`` (one state,
+    the attitude and omega as given)."""
+
+    state: tuple[str, ...]
+    from_native: Callable[[np.ndarray, np.ndarray], np.ndarray]
+    to_native: Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True)
 class Model:
     """A system at one fidelity.
 
@@ -135,6 +150,11 @@ class Model:
     Carried)`` restarts it at t0 from a running state (physics/systems/restart.py; without it the run restarts
     from t = 0); ``initial_momentum(scenario, G) -> K (3,)`` is its inertial K at t = 0 when |K| = G, if not
     G (sin theta0, 0, cos theta0).
+
+    ``chart``: how its state reads as (omega, internal, attitude) for a carry (``Chart``), when it is not laid out
+    so. ``reduce(scenario) -> Model | None``: an exact cheaper form of the same equations for this scenario (the
+    moving mass's averaged model of an axisymmetric body), run in its place under the same name and fidelity;
+    ``for_scenario`` applies it.
     """
 
     name: str
@@ -154,6 +174,14 @@ class Model:
     proxy: str | None = None
     restart: Callable | None = None
     initial_momentum: Callable[[Scenario, float], np.ndarray] | None = None
+    chart: Chart | None = None
+    reduce: Callable[[Scenario], Model | None] | None = None
+
+    def for_scenario(self, sc: Scenario) -> Model:
+        """The model that runs ``sc``: its ``reduce`` hook's form where it applies, else this one."""
+        if self.reduce is not None:
+            return self.reduce(sc) or self
+        return self
 
     def state_names(self, n: int | None = None) -> tuple[str, ...]:
         """The names of the entries of a state of length ``n`` (``state`` when the length is fixed)."""

@@ -8,12 +8,15 @@ import pytest
 
 import physics
 from physics.stepping.live import LiveRun
-from physics.systems.carry import CannotCarry, carry_state, state_names
+from physics.systems.carry import CannotCarry, carried_layout, carry_state, state_names
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
 
 K_TOL = 1e-12  # relative: the carry solves K to rounding (Newton, K_RTOL = 1e-14)
 RUN_RTOL = 1e-11  # integrator tolerance of the run after the edit
+# the averaged moving mass rebuilds its attitude from K's fixed frame (a product of four rotations): the attitude
+# it is given comes back to rounding, not bit for bit (every other model keeps it bit for bit)
+REBUILT_ATTITUDE_TOL = 4 * np.finfo(float).eps
 DRIFT_TOL = 1e-8  # relative drift of K over the short run after the edit, at RUN_RTOL
 SETTLE = 1.5  # s run before the edit, so the internal parts are displaced and moving
 AFTER = 2.0  # s run after the edit
@@ -74,8 +77,9 @@ CLOSED_OK = MASS | {"mass": MASS["mass"] | {"Omega": 40.0}}  # eps small enough 
 
 
 def internal_of(run: LiveRun) -> dict[str, float]:
-    names = state_names(run.model, run.y.size)
-    return {n: v for n, v in zip(names, run.y, strict=True) if not n.startswith(("w", "q"))}
+    y = carried_layout(run.model, run.y, run.p)
+    names = state_names(run.model, y.size)
+    return {n: v for n, v in zip(names, y, strict=True) if not n.startswith(("w", "q"))}
 
 
 def mass_coordinates_absent(sc: physics.Scenario) -> set[str]:
@@ -93,7 +97,10 @@ def check_edit(run: LiveRun, new: physics.Scenario, fidelity: str | None = None)
     assert run.t == t0
     K1 = K_of(run)
     assert np.linalg.norm(K1 - K0) <= K_TOL * np.linalg.norm(K0), (K0, K1)
-    np.testing.assert_array_equal(run.last.quat[0], q0)
+    if run.model.chart is None:
+        np.testing.assert_array_equal(run.last.quat[0], q0)
+    else:
+        assert np.max(np.abs(run.last.quat[0] - q0)) <= REBUILT_ATTITUDE_TOL, (run.last.quat[0], q0)
     now_absent = mass_coordinates_absent(new)
     for name, value in internal_of(run).items():
         if name in now_absent:
@@ -185,7 +192,7 @@ def test_cavity_off_and_on_keeps_K():
 def test_full_to_averaged_and_back_keeps_K_and_attitude(tables):
     run = started(tables)
     check_edit(run, run.scenario, "averaged")
-    assert run.fidelity == "averaged" and run.y.size == 7
+    assert run.fidelity == "averaged" and run.y.size == 8  # (w, psi, K's frame) or its axisymmetric form
     run.advance(0.5)
     check_edit(run, run.scenario, "full")
     assert run.fidelity == "full" and run.y.size == 15

@@ -164,7 +164,8 @@ def scaling_load() -> list[float]:
 
 def targets_theta_error(which: str) -> float:
     """The averaged-vs-full row's theta error or its bound (rad), as targets.csv's `ours` cell states them."""
-    cell_text = rows(TARGETS)[2]["ours"]
+    cell_text = next(r["ours"] for r in rows(TARGETS) if r["target"].startswith("averaged (physics.simulate) vs full, "
+                                                                                   "P2 slow horizon"))
     pattern = r"theta error ([\d.e+-]+)" if which == "error" else r"\(bound ([\d.e+-]+)\)"
     return float(re.search(pattern, cell_text).group(1))
 
@@ -381,11 +382,15 @@ FIGURES = [
     # work-precision headline ratios (python -m bench work-precision), one run
     (PERF, r"\| (\d+)x \(the numpy run is timed", TARGETS, lambda: cell(TARGETS, "ratio", 0)),
     (PERF, r"MuJoCo RK4 / the same \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 1)),
-    (PERF, r"each timed once \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 2)),
-    (PERF, r"with its attitude \(7 states\), same run \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 3)),
-    (PERF, r"the 7-state one below, (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 3)),
+    (PERF, r"averaged the fastest of five \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 2)),
+    (PERF, r"theta within (\d\.\d)e-11 rad of the whole", TARGETS,
+     lambda: 1e11 * float(re.search(r"whole averaged model ([\d.e+-]+)", rows(TARGETS)[2]["ours"]).group(1))),
+    (PERF, r"each timed once \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 3)),
     (PERF, r"full model / closed form, same run \| (\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 4)),
     (PERF, r"fastest of three timings each\) \| (\d+\.\d+)x", TARGETS, lambda: cell(TARGETS, "ratio", 5)),
+    (PERF, r"timed once, took (\d\.\d+) s where", TARGETS, lambda: float(rows(TARGETS)[3]["ours_wall_s"])),
+    (PERF, r"fastest of five took (\d\.\d+) s", TARGETS, lambda: float(rows(TARGETS)[2]["ours_wall_s"])),
+    (PERF, r"the full model on P2\s+took (\d+) s where", TARGETS, lambda: float(rows(TARGETS)[2]["peer_wall_s"])),
     (PERF, r"timed on (\d+\.\d+) % of the horizon", TARGETS,
      lambda: 100 * float(re.search(r"from ([\d.]+) of T", rows(TARGETS)[0]["peer"]).group(1))),
     # P4 in the same run (bench/results/work_precision.csv): fastest settings reaching theta error 1e-9

@@ -29,7 +29,7 @@ def test_import_physics_loads_neither_the_references_nor_mujoco():
 
 def test_only_the_mujoco_references_import_mujoco():
     plain = _modules_after("import physics.reference.problems, physics.reference.numpy_rhs, "
-                           "physics.reference.averaged_equations, physics.systems.moving_mass.averaged_slow")
+                           "physics.reference.averaged_equations")
     assert "physics.reference.problems" in plain and "mujoco" not in plain
     pytest.importorskip("mujoco")
     assert "mujoco" in _modules_after("import physics.reference.mujoco_moving_mass")

@@ -10,8 +10,9 @@ IDENTITY.flags.writeable = False
 
 def qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Hamilton product a (x) b, scalar first, broadcasting over leading axes."""
-    a0, a1, a2, a3 = np.moveaxis(np.asarray(a, dtype=float), -1, 0)
-    b0, b1, b2, b3 = np.moveaxis(np.asarray(b, dtype=float), -1, 0)
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    a0, a1, a2, a3 = a[..., 0], a[..., 1], a[..., 2], a[..., 3]  # indexing, not moveaxis: a third of the time
+    b0, b1, b2, b3 = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
     return np.stack([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3, a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
                      a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1, a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
 
@@ -51,3 +52,4 @@ def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
 def nutation_angle(Kb: np.ndarray) -> np.ndarray:
     """Angle between a body-frame vector (..., 3) and e3, rad: docs/models.md conventions' theta."""
     return np.arctan2(np.hypot(Kb[..., 0], Kb[..., 1]), Kb[..., 2])
+

@@ -133,6 +133,8 @@ def _state_size(model: Model, sc: Scenario) -> int | None:
     """The length of the model's state for ``sc`` (None for a closed form)."""
     if model.pack is None or model.initial_state is None:
         return None
+    if model.layout is None and model.state:  # a fixed layout: its length, without making the state twice
+        return len(model.state)
     return len(model.initial_state(sc, model.pack(sc)))
 
 

@@ -18,7 +18,9 @@ state entries of each optional table). The energy E may change; ``Carried.dE`` s
 K is affine in omega for fixed internal state (carrier, bobs), plus a quadratic term for the cavity's
 fluid momentum (-kc f(omega)), so Newton's method with a central-difference Jacobian is exact in one
 step for the affine case and converges quadratically with the cavity. The solve uses only the model's
-own ``invariants``, so no system needs code of its own here.
+own ``invariants``, so no system needs code of its own here. A model whose state is not laid out as (omega,
+internal, attitude) (the moving mass's averaged model keeps K's inertial frame and a precession phase) is carried
+in the layout its ``Chart`` reads it as, and its state is made from that at the end.
 
 A closed form has no state to step from: ``carry_state`` refuses one as the target (``CannotCarry``). As the
 source, its last row (omega, attitude, internal coordinates) is read as a state of the stateful model
@@ -63,8 +65,8 @@ class Carried:
 
 
 def state_names(model: Model, n: int) -> tuple[str, ...]:
-    """The names of a state vector of length ``n`` (``Model.state_names``)."""
-    names = model.state_names(n)
+    """The names of a state vector of length ``n`` as carried (``Model.state_names``, or its Chart's layout)."""
+    names = model.chart.state if model.chart is not None else model.state_names(n)
     if len(names) != n:
         raise CannotCarry(f"{model.name}: a state of {n} values does not match its layout {model.state}")
     return tuple(names)
@@ -85,27 +87,39 @@ def _absent(sc: Scenario) -> set[str]:
     return out
 
 
+def carried_layout(model: Model, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """The model's state ``y`` as a carry reads it: itself, or through the model's Chart."""
+    y = np.asarray(y, dtype=float)
+    return model.chart.from_native(y[None, :], p)[0] if model.chart is not None else y
+
+
+def _native(model: Model, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return np.asarray(model.chart.to_native(y, p), dtype=float) if model.chart is not None else y
+
+
 def row_state(model: Model, p: np.ndarray, sc: Scenario, row: Trajectory) -> np.ndarray:
     """A state of ``model`` filled from a one-row Trajectory (omega, quat, internal columns by name);
     what the row does not give comes from the model's initial state (its rest values)."""
-    y = np.asarray(model.initial_state(sc, p), dtype=float).copy()
+    y = carried_layout(model, model.initial_state(sc, p), p).copy()
     names = state_names(model, y.size)
     values = dict(zip(OMEGA, row.omega[-1], strict=True)) | dict(zip(QUAT, row.quat[-1], strict=True))
     values.update({k: float(v[-1]) for k, v in row.internal.items()})
     for i, name in enumerate(names):
         if name in values:
             y[i] = values[name]
-    return y
+    return _native(model, y, p)
 
 
 def _K(model: Model, y: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, float]:
+    """K and E of ``y`` in the carried layout (``carried_layout``)."""
+    y = _native(model, y, p)
     K, E = pick(model.invariants)(np.ascontiguousarray(y[None, :]), p)  # interpreted while the kernels build
     return np.asarray(K[0], dtype=float), float(E[0])
 
 
 def solve_omega(model: Model, y: np.ndarray, p: np.ndarray, K_target: np.ndarray) -> tuple[np.ndarray, int]:
-    """``y`` with omega (its first three values) changed so that the model's inertial K equals
-    ``K_target``; the other values are kept. Returns (y, Newton iterations)."""
+    """``y`` (in the carried layout, ``carried_layout``) with omega (its first three values) changed so that the
+    model's inertial K equals ``K_target``; the other values are kept. Returns (y, Newton iterations)."""
     y = y.copy()
     scale = max(float(np.linalg.norm(K_target)), 1e-300)
     for it in range(NEWTON_MAX + 1):
@@ -151,14 +165,14 @@ def carry_state(old_model: Model, old_p: np.ndarray, old_sc: Scenario, y_old: np
         old_model = get_model(old_sc.system, old_model.proxy)
         old_p = np.asarray(old_model.pack(old_sc), dtype=float)
         y_old = row_state(old_model, old_p, old_sc, last)
-    y_old = np.asarray(y_old, dtype=float)
+    y_old = carried_layout(old_model, y_old, old_p)
     if new_p is None:
         new_p = np.asarray(new_model.pack(new_sc), dtype=float)
     K_old, E_old = _K(old_model, y_old, old_p)
     if K_keep is not None:
         K_old = np.asarray(K_keep, dtype=float)
 
-    template = np.asarray(new_model.initial_state(new_sc, new_p), dtype=float)
+    template = carried_layout(new_model, new_model.initial_state(new_sc, new_p), new_p)
     names_new = state_names(new_model, template.size)
     old_values = dict(zip(state_names(old_model, y_old.size), y_old, strict=True))
     dropped = _absent(old_sc) | _absent(new_sc)  # a part switched off, on, or absent throughout
@@ -183,7 +197,8 @@ def carry_state(old_model: Model, old_p: np.ndarray, old_sc: Scenario, y_old: np
             y, n = system.start_part(part, new_model, new_sc, y, new_p, K_old, idx)
             iterations += n
     K_new, E_new = _K(new_model, y, new_p)
-    return Carried(y=y, K_before=K_old, K_after=K_new, E_before=E_old, E_after=E_new, iterations=iterations)
+    return Carried(y=_native(new_model, y, new_p), K_before=K_old, K_after=K_new, E_before=E_old, E_after=E_new,
+                   iterations=iterations)
 
 
-__all__ = ["CannotCarry", "Carried", "carry_state", "row_state", "solve_omega", "state_names"]
+__all__ = ["CannotCarry", "Carried", "carried_layout", "carry_state", "row_state", "solve_omega", "state_names"]

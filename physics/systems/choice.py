@@ -130,7 +130,7 @@ def resolve(sc, fidelity: str | None = None, *, warn: bool = False) -> Resolved:
         if failed:
             warnings.warn(f"the {fid} model is outside its validity conditions: " + "; ".join(failed),
                           ValidityWarning, stacklevel=3)
-    return Resolved(get_model(sc.system, fid), fid, reason, steps)
+    return Resolved(get_model(sc.system, fid).for_scenario(sc), fid, reason, steps)
 
 
 # auto's accuracy in theta (rad) when the scenario sets no run.accuracy: the 1e-3 rad the averaged model's

@@ -59,7 +59,7 @@ def _cached(sc, fidelity: str) -> float | None:
 
 
 def _estimate(sc, fidelity: str) -> float | None:
-    model = get_model(sc.system, fidelity)
+    model = get_model(sc.system, fidelity).for_scenario(sc)
     if model.solve is not None:
         return 0.0
     t_end = float(sc.run.t_end)

@@ -28,7 +28,7 @@ from physics.core.rotation import normalize, qmul, rotate
 from physics.core.trajectory import Trajectory
 from physics.registry import Model, get_model
 from physics.scenario.scenario import Scenario
-from physics.systems.carry import CannotCarry, Carried, carry_state
+from physics.systems.carry import CannotCarry, Carried, carried_layout, carry_state
 from physics.systems.restart import ClosedOrigin
 
 
@@ -58,7 +58,8 @@ def restart_closed(old_model: Model, old_p: np.ndarray, old_sc: Scenario, y_old:
     the K an old closed form shows (``carry_state``)."""
     averaged = get_model(new_sc.system, "averaged")
     carried = carry_state(old_model, old_p, old_sc, y_old, averaged, new_sc, last=last, K_keep=K_keep)
-    return origin_at(new_sc, carried.K_after, carried.y[3:7], t0), carried
+    attitude = carried_layout(averaged, carried.y, averaged.pack(new_sc))[3:7]
+    return origin_at(new_sc, carried.K_after, attitude, t0), carried
 
 
 __all__ = ["origin_at", "restart_closed"]

@@ -12,7 +12,8 @@ the free nutation e^{i Omega t}:
 with w = omega_x + i omega_y = Phihat e^{i Omega t} and the pendulum's mode 1
 z = alpha + i beta = Ut e^{i Omega t}. Mode 2 decays on its own (a_2' = -gamma_2 a_2) and is never
 excited from rest, so a_2 = 0 here. The system is linear and solved exactly by the 2x2 matrix
-exponential; the attitude is the only thing integrated (its kinematics, with the closed-form omega).
+exponential; the attitude follows from K, whose inertial direction is fixed: the body-frame direction of H and
+the precession phase psi, a quadrature of a slowly varying rate (``_attitude``).
 """
 
 from __future__ import annotations
@@ -20,9 +21,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from physics.core.errors import ScenarioError
+from physics.core.rotation import qconj, qmul
 from physics.core.trajectory import Trajectory
 from physics.registry import Model, register
 from physics.scenario.initial import initial_G
@@ -32,8 +33,8 @@ from physics.systems.pendulum.linear import SphericalLinear, spherical_linear
 from physics.systems.pendulum.restart import carry_to_pendulum_averaged
 
 # Where the model may run and its error estimate: validity.py and accuracy.py (issue 15).
-QUAT_STEP = 0.05  # rad of rotation per Magnus step of the attitude: error ~1e-10 over 100 turns
-MAX_SUBSTEPS = 2e6  # Magnus steps per run (about 400 MB of work arrays), as simulate bounds its own steps
+QUAT_STEP = 0.05  # rad of the slow exponents' phase per quadrature step of the precession phase psi
+MAX_SUBSTEPS = 2e6  # quadrature steps per run (about 400 MB of work arrays), as simulate bounds its own steps
 
 
 class AveragedCoefficients:
@@ -114,29 +115,38 @@ def _dissipated(co: AveragedCoefficients, u0: np.ndarray, U: np.ndarray, t: np.n
     return work
 
 
-@njit(cache=True)
-def _chain(steps: np.ndarray, ends: np.ndarray) -> np.ndarray:
-    """Products q_0 (x) steps[0] (x) steps[1] ..., q_0 = identity, kept after step ends[i] - 1."""
-    out = np.empty((len(ends), 4))
-    q0, q1, q2, q3 = 1.0, 0.0, 0.0, 0.0
-    j = 0
-    for i in range(len(ends)):
-        while j < ends[i]:
-            a0, a1, a2, a3 = steps[j]
-            q0, q1, q2, q3 = (q0 * a0 - q1 * a1 - q2 * a2 - q3 * a3, q0 * a1 + q1 * a0 + q2 * a3 - q3 * a2,
-                              q0 * a2 - q1 * a3 + q2 * a0 + q3 * a1, q0 * a3 + q1 * a2 - q2 * a1 + q3 * a0)
-            j += 1
-        n = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-        out[i, 0], out[i, 1], out[i, 2], out[i, 3] = q0 / n, q1 / n, q2 / n, q3 / n
-    return out
+def _momentum_parts(co: AveragedCoefficients, U: np.ndarray) -> tuple[np.ndarray, float]:
+    """(h (n,), H3): the body-frame momentum of the averaged solution relative to the free nutation,
+    H1 + i H2 = h e^{i Omega t}, h = (A + mu D^2) Phihat + i mu D l omega_0 Ut, and H3 = C W (B.6)."""
+    p = co.p
+    return (co.A + p.mu * p.D**2) * U[:, 0] + 1j * p.mu * p.D * p.l * p.omega0 * U[:, 1], p.C * p.W
 
 
-def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray) -> np.ndarray:
-    """Integrate q' = q (x) (0, omega)/2 with the closed-form omega(t) by the fourth-order Magnus
-    method on Gauss points (exact for a constant omega, so only the slow wobble limits the step);
-    identity at t = 0, t (n,) increasing from 0."""
-    Phi = np.abs(np.einsum("nij,j->ni", co.propagator(np.array([0.0])), u0))[0, 0]
-    rate = math.hypot(W, Phi) + abs(co.Omega) + abs(co.sigma) + 1e-300
+def _precession_rate(co: AveragedCoefficients, u0: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """psi' (rad/s) at times s: the rate of the precession phase about K's fixed direction (docs/models.md B.6,
+    the attitude), psi' = w.k + cos(theta) d arg(H1 + i H2)/dt with k = H/|H|; every term varies slowly (the
+    free nutation's e^{i Omega t} enters arg only as the constant rate Omega)."""
+    U = np.einsum("nij,j->ni", co.propagator(s), u0)
+    dU = U @ co.matrix.T  # U' = M U
+    h, H3 = _momentum_parts(co, U)
+    dh, _ = _momentum_parts(co, dU)
+    h2 = np.abs(h) ** 2
+    Hn = np.sqrt(h2 + H3 * H3)
+    w_along = (np.real(np.conj(U[:, 0]) * h) + co.p.W * H3) / Hn
+    with np.errstate(invalid="ignore", divide="ignore"):
+        turn = co.Omega + np.imag(np.conj(h) * dh) / h2
+    # on the axis (h = 0: no nutation at all) phi stays 0 and the body turns about K at w3 |H|/H3
+    return np.where(h2 > 0, w_along + H3 / Hn * turn, co.p.W * Hn / H3)
+
+
+def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray, U: np.ndarray) -> np.ndarray:
+    """The attitude at times t (n,) increasing from 0 (the identity at t = 0), from K, which does not turn:
+    Q_K Rz(psi) Rx(theta) Rz(phi), with (theta, phi) the body-frame direction of H (``U`` the solution at t) and
+    psi the quadrature of ``_precession_rate`` by two-point Gauss-Legendre on sub-steps of QUAT_STEP rad of the
+    slow exponents. R H is then fixed in space to rounding, which the attitude integrated with the averaged
+    omega (until issue 23) was not: the averaged torques turn H in the body, and omega does not turn the body
+    back."""
+    rate = float(np.max(np.abs(co.exponents()))) + abs(co.sigma) + 1e-300
     dt = np.diff(t, prepend=0.0)
     n_float = np.maximum(np.ceil(dt * rate / QUAT_STEP), 1)
     if not float(np.sum(n_float)) <= MAX_SUBSTEPS:  # each sub-step holds a few arrays' rows: bound the memory
@@ -150,15 +160,29 @@ def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray)
     k = np.arange(len(h)) - np.repeat(np.cumsum(n_sub) - n_sub, n_sub)
     t0 = starts + k * h
     g = math.sqrt(3) / 6
-    ws = []
-    for tg in (t0 + (0.5 - g) * h, t0 + (0.5 + g) * h):
-        w = np.einsum("nij,j->ni", co.propagator(tg), u0)[:, 0] * np.exp(1j * co.Omega * tg)
-        ws.append(np.column_stack([w.real, w.imag, np.full(len(tg), W)]))
-    v = h[:, None] / 4 * (ws[0] + ws[1]) - (math.sqrt(3) / 24) * h[:, None] ** 2 * np.cross(ws[1], ws[0])
-    a = np.linalg.norm(v, axis=1)
-    sinc = np.where(a > 0, np.sin(a) / np.where(a > 0, a, 1.0), 1.0)
-    steps = np.column_stack([np.cos(a), v * sinc[:, None]])
-    return _chain(np.ascontiguousarray(steps), np.cumsum(n_sub))
+    steps = 0.5 * h * (_precession_rate(co, u0, t0 + (0.5 - g) * h) + _precession_rate(co, u0, t0 + (0.5 + g) * h))
+    psi = np.concatenate([[0.0], np.cumsum(steps)])[np.cumsum(n_sub)]
+    hp, H3 = _momentum_parts(co, U)
+    Hp = hp * np.exp(1j * co.Omega * t)  # the same e^{i Omega t} as omega's, so phi and omega agree to rounding
+    # phi unwrapped: a jump of 2 pi would flip the quaternion's sign between rows (the same rotation, but not the
+    # continuous attitude a chart or a comparison expects)
+    theta, phi = np.arctan2(np.abs(Hp), H3), np.unwrap(np.arctan2(Hp.real, Hp.imag))
+    tilt = _tilt(psi, theta, phi)
+    q = qmul(qconj(_initial_tilt(co, u0)), tilt)  # the identity at t = 0
+    return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+def _tilt(psi: np.ndarray, theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Rz(psi) (x) Rx(theta) (x) Rz(phi) as quaternions (n, 4)."""
+    cp, sp, ct, st = np.cos(psi / 2), np.sin(psi / 2), np.cos(theta / 2), np.sin(theta / 2)
+    cf, sf = np.cos(phi / 2), np.sin(phi / 2)
+    a = np.stack([cp * ct, cp * st, sp * st, sp * ct], -1)  # Rz(psi) (x) Rx(theta)
+    return qmul(a, np.stack([cf, 0 * cf, 0 * cf, sf], -1))
+
+
+def _initial_tilt(co: AveragedCoefficients, u0: np.ndarray) -> np.ndarray:
+    hp, H3 = _momentum_parts(co, u0[None, :])
+    return _tilt(np.array([0.0]), np.arctan2(np.abs(hp), H3), np.arctan2(hp.real, hp.imag))
 
 
 def averaged_theta(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -191,10 +215,11 @@ def solve_averaged(sc: Scenario, t: np.ndarray) -> Trajectory:
     E0 = 0.5 * float(w0 @ (np.asarray(system.J) * w0))
     omega = np.column_stack([w.real, w.imag, np.full(len(t), W)])
     internal = {"alpha": z.real, "beta": z.imag, "alpha_dot": zd.real, "beta_dot": zd.imag, "W_diss": work}
-    info = {"method": "closed form (2x2 matrix exponential); attitude by 4th-order Magnus", "nfev": 0, "steps": 0,
+    info = {"method": "closed form (2x2 matrix exponential); attitude from K's fixed direction and the precession "
+                      "phase by quadrature", "nfev": 0, "steps": 0,
             "stop_reason": "reached t_end", "t_stop": float(t[-1])}
     return Trajectory(t=t, theta=theta, K=np.full(len(t), G0), E=E0 - work, omega=omega,
-                      quat=_attitude(co, u0, W, t), internal=internal, info=info)
+                      quat=_attitude(co, u0, W, t, U), internal=internal, info=info)
 
 
 def initial_momentum(sc: Scenario, G: float) -> np.ndarray:
