@@ -88,17 +88,21 @@ class Engine:
         self._load(scenario or presets.load_preset(preset), name)
 
     # ---- requests from GUI callbacks (any thread) -------------------------------------------
-    def request_value(self, key: str, value, limits: tuple[float, float] | None = None) -> int:
-        """A slider's new value; ``limits``: the slider's (min, max) then (app.engine.edits clamps a value beyond them
-        and drops the browser's clamp echo). A slider of an array table edits the item an "item" action chose."""
+    def request_value(self, key: str, value, text: str | None = None) -> int:
+        """A slider's new value; ``text``: what the user typed into its box (app.engine.typed read it), None for the
+        slider's own move. A slider of an array table edits the item an "item" action chose."""
         slider = key
         key = controls.item_key(key, self.scenario.system, self.item)  # one item chosen: that item
         with self._lock:
-            if not self.guard.received(slider, value, limits):
-                return self.change_seq  # the browser's own clamp of a value just judged: not the user's
+            self.guard.received(slider, value, text)
             self._pending[key] = value
             self.value_requested_at = time.monotonic()  # app.panel.playbar drops a keyed step a focused slider took
             return self._bump()
+
+    def refuse_typed(self, key: str, text: str, why: str) -> None:
+        """A text typed into ``key``'s box that is no number (``why``): said beside the slider, nothing applied."""
+        with self._lock:
+            self.guard.unreadable(key, text, why, self.values.get(key))
 
     def request(self, action: str, value=None) -> int:
         """Actions: play, pause, step, reset, warp, preset, system, fidelity, restart_on_change,
@@ -302,11 +306,9 @@ class Engine:
 
     def _apply_guarded(self, pending: dict) -> None:
         """Slider values through the guard (app.engine.edits): a value physics rejects is not applied and its
-        slider goes back to the last good value, one beyond the slider's range is clamped; each change is
-        saved for undo first."""
+        slider goes back to the last good value; one beyond the slider's usual span is applied and the span
+        widens; each change is saved for undo first."""
         guard = self.guard
-        for key in guard.take_dropped():  # the browser shows a clamp echo that was not applied: set it back
-            guard.revert[key] = self.values[key]
         if not pending:
             return
         accepted = guard.screen(self._chosen_base(), self.changes, pending, self.values)
@@ -341,6 +343,9 @@ class Engine:
         for k, v in pending.items():
             key, _, which = k.partition("#")
             if not isinstance(v, str) and (not which or int(which) == (self.item or 0)):
+                p = controls.BY_KEY.get(key)
+                if p is not None and controls.slider_range(p, v) != controls.slider_range(p, self.values[key]):
+                    self.sliders_changed = True  # the slider's span widens to show the value (or narrows back)
                 self.values[key] = v
         words = [k.partition("#")[0] for k, v in changes.items() if isinstance(v, str)]
         if words:  # a value given in words (a tuned spring, "resonant"): its slider shows what it resolves to

@@ -25,6 +25,7 @@ from .compare_plots import ComparePlots
 from .control_notes import NotePlace
 from .energy_plot import EnergyChart
 from .playbar import Playbar
+from .typed_numbers import TypedNumbers
 
 EDITED = " (edited)"  # the preset dropdown's name for a preset changed since it was loaded
 ALL = "all"  # an item action's first option: the sliders edit every item
@@ -205,6 +206,11 @@ class Panel:
             f = self.upload.value
             eng.request("upload", (f.name, f.content))
 
+        others = [(self.warp, lambda v: eng.request("warp", 10.0 ** v))]  # the sliders that are no parameter
+        others += [(self.action_widgets[a.name], lambda v, a=a: eng.request(a.name, v))
+                   for a in system_actions(None) if a.kind not in ("button", "choice", "item")]
+        self.typed = TypedNumbers(gui, self.sliders, eng, others)  # what is typed in a slider's box, read here
+
     def _lazy_panel(self, title: str, module: str, cls: str, apply, **options) -> None:
         """A folder whose panel is built on first open: panels pull in plotly (and its script in the
         browser), which the first frame should not wait for."""
@@ -229,7 +235,7 @@ class Panel:
         def _(event):
             if event.client is None:
                 return
-            self.engine.request_value(key, float(slider.value), limits=(slider.min, slider.max))
+            self.engine.request_value(key, float(slider.value))
 
     def sync(self) -> None:
         """After a preset or system change: slider values, ranges and which folders apply."""
@@ -240,6 +246,7 @@ class Panel:
             lo, hi = controls.slider_range(p, eng.values[key])
             set_if_changed(slider, "min", lo)
             set_if_changed(slider, "max", hi)
+            set_if_changed(slider, "precision", _digits(p.step, lo, hi, eng.values[key]))  # the box shows the value
             set_if_changed(slider, "value", min(max(eng.values[key], lo), hi))
             set_if_changed(slider, "disabled", system not in p.systems)
         shown = controls.folders_of(system)  # the body's, the start's and the system's own
@@ -352,6 +359,15 @@ def _build_sliders(gui, values: dict[str, float]) -> tuple[dict, dict]:
                 sliders[key] = gui.add_slider(p.text, min=lo, max=hi, step=p.step,
                                               initial_value=min(max(values[key], lo), hi), hint=p.hint)
     return sliders, folders
+
+
+def _digits(*values: float, most: int = 7) -> int:
+    """Decimals the slider's box shows: enough for each of ``values`` (0.001 needs 3), at most ``most``."""
+    digits = 0
+    for x in values:
+        while digits < most and np.isfinite(x) and round(x, digits) != x:
+            digits += 1
+    return digits
 
 
 def _system_label(system: str) -> str:
