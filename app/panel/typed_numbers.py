@@ -9,6 +9,9 @@ slider's id, through one text control of the tab (``MAILBOX_LABEL``, its row hid
 back the value that runs until the server answers. ``TypedNumbers`` reads it (``app.engine.typed``) and hands a
 number to the engine like a slider's move, or says in words why it is no number. Escape leaves the box as it
 was. The script touches only the number boxes beside sliders; the other number boxes are viser's as they are.
+
+The same script rewords viser's notice "File uploaded successfully." (shown once a file has arrived, before the
+server has read it): the server says under the Load button whether the file loaded or why not.
 """
 
 from __future__ import annotations
@@ -19,10 +22,12 @@ from ..engine import typed
 
 MAILBOX_LABEL = "quasirigid typed number"  # the text control the page writes typed texts into (never shown)
 MAX_MESSAGE = 400  # characters of a mailbox message: an id, a typed text of typed.MAX_TEXT and a counter
+UPLOADED = "File uploaded successfully."  # viser's notice when a file has arrived (client UploadButton.tsx)
+RECEIVED = "File received; whether it loaded is said under the Load button (File folder)."  # what it says instead
 
 _SCRIPT = """<script>/* Quasirigid (app/panel/typed_numbers.py): a slider's number box sends the text as typed */
 (function () {
-  var MAILBOX = "@MAILBOX@", MAX_TEXT = @MAX_TEXT@;
+  var MAILBOX = "@MAILBOX@", MAX_TEXT = @MAX_TEXT@, UPLOADED = "@UPLOADED@", RECEIVED = "@RECEIVED@";
   var editing = null, sent = 0, hidden = null;
   var setValue = Object.getOwnPropertyDescriptor(HTMLInputElement.prototype, "value").set;
   function sliderOf(el) {  /* the slider whose number box el is, or null */
@@ -86,10 +91,22 @@ _SCRIPT = """<script>/* Quasirigid (app/panel/typed_numbers.py): a slider's numb
     var box = mailbox(), row = box && box.closest(".mantine-Flex-root");
     if (row && row.parentElement) { hidden = row.parentElement; hidden.style.display = "none"; }
   }
-  new MutationObserver(hide).observe(document.documentElement, {childList: true, subtree: true});
+  function reword() {  /* a file received may yet be refused: the server says which, under the Load button */
+    var said = document.getElementsByClassName("mantine-Notification-description");
+    for (var i = 0; i < said.length; i++)
+      if (said[i].textContent === UPLOADED) said[i].textContent = RECEIVED;
+  }
+  new MutationObserver(function () { hide(); reword(); }).observe(document.documentElement,
+                                                                 {childList: true, subtree: true});
 })();
 </script>"""
-PAGE_SCRIPT = _SCRIPT.replace("@MAILBOX@", MAILBOX_LABEL).replace("@MAX_TEXT@", str(typed.MAX_TEXT)).encode()
+PAGE_SCRIPT = (_SCRIPT.replace("@MAILBOX@", MAILBOX_LABEL).replace("@MAX_TEXT@", str(typed.MAX_TEXT))
+               .replace("@UPLOADED@", UPLOADED).replace("@RECEIVED@", RECEIVED).encode())
+
+
+def _id(handle) -> str | None:
+    """The id viser's page gives a control (its handle's uuid); None for a stand-in without one (a test's)."""
+    return getattr(getattr(handle, "_impl", None), "uuid", None)
 
 
 class TypedNumbers:
@@ -99,8 +116,8 @@ class TypedNumbers:
 
     def __init__(self, gui, sliders: dict, engine, others: list | tuple = ()):
         self.engine = engine
-        self.by_id = {h._impl.uuid: key for key, h in sliders.items()}  # the id the page names a slider by
-        self.others = {h._impl.uuid: (h, act) for h, act in others}
+        self.by_id = {_id(h): key for key, h in sliders.items()}  # the id the page names a slider by
+        self.others = {_id(h): (h, act) for h, act in others}
         self.box = gui.add_text(MAILBOX_LABEL, "", hint=None)
 
         @self.box.on_update
