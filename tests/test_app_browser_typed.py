@@ -14,6 +14,7 @@ import tomllib
 
 import pytest
 from test_app_browser import (  # noqa: F401 (browser and url are fixtures)
+    ROOT,
     browser,
     click,
     number_box,
@@ -115,3 +116,27 @@ def test_what_runs_is_what_the_page_says(page):
     assert sc["medium"]["lambda"] == 0.001 and sc["mass"]["chi"] == 1.5
     assert {k: sc["mass"][k] for k in GOOD} == GOOD
     assert "control" not in sc  # b = -2e+1 refused: no braking
+
+
+def test_a_refused_upload_is_said_under_the_load_button_instead_of_uploaded_successfully(page, tmp_path):
+    """viser says "File uploaded successfully." once a file has arrived, before the server reads it; a file the
+    explorer refuses was said at the top of the panel, a screen away. Now the answer is under the button."""
+    load = page.get_by_role("button", name="Load scenario (TOML)", exact=True)
+    if not load.is_visible():
+        page.get_by_text("File", exact=True).click()  # the folder starts collapsed
+    page.evaluate("""() => { window.__notices = [];  // every notice text the page shows, as it shows it
+        new MutationObserver(() => { for (const d of document.getElementsByClassName(
+            'mantine-Notification-description')) window.__notices.push(d.textContent); })
+        .observe(document.body, {childList: true, subtree: true, characterData: true}); }""")
+    bad = (ROOT / "physics" / "data" / "default.toml").read_bytes().replace(b"\nm = 0.2\n", b"\nm = -1.0\n")
+    assert b"m = -1.0" in bad
+    page.locator("input[type=file]").first.set_input_files(
+        {"name": "bad.toml", "mimeType": "application/toml", "buffer": bad})
+    note = page.get_by_text(re.compile(r"Not loaded: mass\.m = -1.*The scene is unchanged\."))
+    wait_until(page, lambda: note.count() and note.is_visible(), "the refusal under the Load button")
+    nb, lb = note.bounding_box(), load.bounding_box()
+    assert 0 <= nb["y"] - (lb["y"] + lb["height"]) <= 40, (nb, lb)  # right under the button
+    notices = wait_until(page, lambda: [n for n in page.evaluate("window.__notices") if n.startswith("File ")],
+                         "viser's notice, reworded")  # it closes by itself a few seconds later
+    assert all(n.startswith("File received; whether it loaded") for n in notices), notices
+    page.screenshot(path=str(tmp_path / "upload_refused.png"))

@@ -70,6 +70,7 @@ class Engine:
         self.auto_badge = Badge(lambda: self.scenario)  # auto's choice in words, worked out off the loop thread
         self.prediction = Overlay(self._plots_changed, self._fail)  # the cheaper model's, off the loop thread
         self.error = ""
+        self.upload_note: tuple[str, str] | None = None  # ("loaded" or "refused", words): beside the upload button
         self.guard = edits.Guard()  # typed values judged, notes beside sliders, undo (app.engine.edits)
         self.clock = Clock()
         self._last_frame: Frame | None = None  # shown again, as a fault, if a state cannot be observed

@@ -140,6 +140,7 @@ class Panel:
             self.csv_btn = gui.add_button("Download trajectory (CSV)")
             self.upload = gui.add_upload_button("Load scenario (TOML)", mime_type=".toml",
                                                 hint="a scenario file, as `python -m physics` reads (64 kB at most)")
+            self.upload_md = gui.add_markdown("")  # what came of an upload, under its button (engine.upload_note)
             self.replay = ReplayButton(gui, eng, self.client)  # the scene as an offline HTML replay (app.replay.export)
         self.share = SharePanel(gui, eng, self.client, restore=self.restore)  # code, link, last scene (share_panel)
         self._lazy_panel("Speed vs accuracy", "speed_panel", "SpeedPanel",
@@ -327,6 +328,7 @@ class Panel:
         self._sync_choices()  # follow the dropdowns, an upload, an undo, a system change
         for key, value in eng.guard.take_revert().items():  # a rejected value's slider shows the last good one
             set_if_changed(self.sliders[key], "value", value)
+        set_if_changed(self.upload_md, "content", _upload_md(eng.upload_note))
         note = edits.shown_note(eng.guard, fr.status, words.status_words(fr.message or ""))
         self.notes.show(note, can_undo=bool(eng.guard.undo))
         beside = note is not None and note.reason == eng.error  # shown under its slider: not again up here
@@ -359,6 +361,15 @@ def _build_sliders(gui, values: dict[str, float]) -> tuple[dict, dict]:
                 sliders[key] = gui.add_slider(p.text, min=lo, max=hi, step=p.step,
                                               initial_value=min(max(values[key], lo), hi), hint=p.hint)
     return sliders, folders
+
+
+def _upload_md(note: tuple[str, str] | None) -> str:
+    """The upload's outcome, under the Load button: red for a refusal. It stands in for viser's own "File uploaded
+    successfully", which the page's script rewords (app.panel.typed_numbers), since a file received may be refused."""
+    if note is None:
+        return ""
+    kind, text = note
+    return f"<span style='color:{'#c00' if kind == 'refused' else '#555'}'>{text}</span>"
 
 
 def _digits(*values: float, most: int = 7) -> int:
