@@ -344,3 +344,18 @@ def test_the_badge_and_details_list_one_set_of_conditions_that_agrees_with_auto(
     for line in re.findall(r"(?m)^✗ (.*)$", badge):
         assert ": not here (" in line and " not too " not in line  # the requirement said plainly, once
 
+
+def test_the_initial_state_says_the_theta_the_run_starts_from_and_why_it_is_not_theta0():
+    """Issue 24: the Initial state slider said theta0 = 0.8 while theta read 0.868 at t = 0 (the mass's quasi-static
+    deflection adds to K). The folder now says the start's theta(0) and |K(0)| and why; nothing when they agree."""
+    e = Engine()
+    t0, theta0, K0 = e.plot_all.values()[0, :3]
+    assert t0 == 0.0 and abs(theta0 - 0.8) > 0.05
+    note = e.start_note()
+    assert f"theta(0) = {theta0:.4g} rad" in note and f"abs(K(0)) = {K0:.4g}" in note and "theta0 = 0.8 " in note
+    assert "moving part's own start adds to K" in note
+    e.request_value("mass.m", 0.0)  # no moving part: the run starts as the sliders say
+    e.tick(0.0)
+    e.request("reset")
+    e.tick(0.0)
+    assert e.plot_all.values()[0, 1] == pytest.approx(0.8, abs=1e-9) and e.start_note() == ""

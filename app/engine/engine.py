@@ -20,7 +20,7 @@ import numpy as np
 
 import physics
 
-from . import controls, edits, output, presets
+from . import controls, edits, output, presets, words
 from . import frame as frames
 from .actions import act, choices_of, system_actions, with_choices
 from .buffers import (
@@ -348,10 +348,10 @@ class Engine:
                 if p is not None and controls.slider_range(p, v) != controls.slider_range(p, self.values[key]):
                     self.sliders_changed = True  # the slider's span widens to show the value (or narrows back)
                 self.values[key] = v
-        words = [k.partition("#")[0] for k, v in changes.items() if isinstance(v, str)]
-        if words:  # a value given in words (a tuned spring, "resonant"): its slider shows what it resolves to
+        worded = [k.partition("#")[0] for k, v in changes.items() if isinstance(v, str)]
+        if worded:  # a value given in words (a tuned spring, "resonant"): its slider shows what it resolves to
             resolved = controls.values_of(sc, self.item)
-            self.values.update({k: resolved[k] for k in words if k in resolved})
+            self.values.update({k: resolved[k] for k in worded if k in resolved})
             self.sliders_changed = True
         self.error = ""
         self.shape = self._shape(sc)
@@ -501,6 +501,14 @@ class Engine:
     def readouts(self) -> dict[str, str]:
         """What the panel shows, ``name -> value`` (``output.readouts``)."""
         return output.readouts(self.run, self.world_wxyz, self.edit_dE, self.edit_note)
+
+    def start_note(self) -> str:
+        """The theta(0) and |K(0)| the run started from, where they differ from the Initial state sliders, and why
+        (``words.start_words``); "" otherwise."""
+        rows = self.plot_all.values()
+        if not len(rows) or rows[0, 0] != 0.0:
+            return ""
+        return words.start_words(self.start_scenario, float(rows[0, 1]), float(rows[0, 2]))
 
     def details(self) -> dict[str, str]:
         """The model and the raw attitude, for the Details folder (``output.details``)."""

@@ -132,3 +132,19 @@ def euler_angles(wxyz) -> tuple[float, float, float]:
         return math.atan2(r21, r11), theta, 0.0
     return math.atan2(r13, -r23), theta, math.atan2(r31, r32)
 
+
+START_SAME = 5e-5  # rad, and relative for |K|: below this the start is as set (the readouts show 4-6 digits)
+
+
+def start_words(sc, theta_start: float, K_start: float) -> str:
+    """Under the Initial state sliders: the theta(0) and |K(0)| the run starts from, and why they differ from the
+    sliders when they do (the sliders set the frozen body's spin J* w0; a moving part's own start adds to K and
+    turns it away from that). "" when the run starts as the sliders say."""
+    start = {p.label: (p, physics.base_values(sc)[p.key]) for p in physics.BASE_PARAMS if p.restarts}
+    angle = next((p, v) for p, v in start.values() if p.unit == "rad")
+    size = next((p, v) for p, v in start.values() if p.unit != "rad")
+    if abs(theta_start - angle[1]) <= START_SAME and abs(K_start - size[1]) <= START_SAME * max(size[1], 1e-300):
+        return ""
+    return (f"The run starts at theta(0) = {theta_start:.4g} rad and abs(K(0)) = {K_start:.4g} {size[0].unit}: "
+            f"{angle[0].label} = {angle[1]:.4g} and {size[0].label} = {size[1]:.4g} set the frozen body's spin "
+            "(J* w0); the moving part's own start adds to K and turns it.")

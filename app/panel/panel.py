@@ -116,6 +116,9 @@ class Panel:
         for title, folder in self.folders.items():
             with folder:
                 self._add_actions(title)
+        start = next(p.folder for p in controls.PARAMS if p.base and p.restarts)  # the Initial state folder
+        with self.folders[start]:
+            self.start_md = gui.add_markdown("")  # the theta(0) the run starts from, when not the slider's
         with gui.add_folder("View"):
             self.view = gui.add_dropdown("Frame", ["inertial", "body"], initial_value="inertial",
                                          hint="inertial: K fixed and pointing up; body: the body stays still")
@@ -321,6 +324,7 @@ class Panel:
             self.readout_md.content = _readout_md(eng)
             set_if_changed(self.compare_md, "content", compare_readout_md(eng))
             set_if_changed(self.details_md, "content", _details_md(eng))
+            set_if_changed(self.start_md, "content", eng.start_note())
         if plots_now:
             self._sync_preset()  # "(edited)" after a slider change, which does not resync the panel
             self.compare.sync()  # "off" when a new scene could not take the difference
