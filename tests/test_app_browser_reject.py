@@ -1,9 +1,11 @@
 """Typed slider values in a real browser (Debian's chromium via Playwright, 1400x900, as a lecturer's laptop):
 a rejected value leaves its box showing the last good value, says why right under its slider where the
-eye is, and is never applied by a later edit; a value beyond the slider's range is clamped, with a note.
+eye is, and is never applied by a later edit; a value beyond the slider's usual span is applied, never clamped,
+and the span widens, with a note.
 
 The fixtures follow tests/test_app_browser.py: one server in a subprocess, one page, the tests in order.
-Keys are typed one by one, as a user types them (viser's box sends every keystroke: app/engine/edits.py).
+Keys are typed one by one, as a user types them; the box sends its text when Enter is pressed or the box is left
+(app/panel/typed_numbers.py).
 """
 
 from __future__ import annotations
@@ -78,7 +80,7 @@ def test_a_rejected_m_is_shown_beside_its_slider_and_its_box_returns_to_the_last
     m_box = number_box(page, "m (kg)")
     good = m_box.input_value()
     assert float(good) > 0
-    type_into(page, "m (kg)", "-1")
+    type_into(page, "m (kg)", "-1").press("Enter")
     visible_beside(page, re.compile(r"Rejected: m = -1 kg: .*m stays " + re.escape(good) + " kg"), m_box)
     page.screenshot(path=str(tmp_path / "reject_m.png"))
     number_box(page, "rho (m)").click()  # the user moves on: the box loses focus
@@ -100,14 +102,17 @@ def test_a_later_edit_applies_only_itself(page):
     assert not page.get_by_text(re.compile("Rejected: m = ")).count()  # an accepted edit clears the old note
 
 
-def test_omega_typed_beyond_its_range_is_clamped_with_a_note(page, tmp_path):
-    box = type_into(page, "Omega (rad/s)", "1000000")
-    visible_beside(page, re.compile(r"Omega = 1e\+06 rad/s is outside this slider's range .*set to 60 rad/s"), box)
-    page.screenshot(path=str(tmp_path / "reject_omega.png"))
-    box.press("Tab")
-    wait_until(page, lambda: box.input_value() == "60", "the Omega box to show 60")
+def test_omega_typed_beyond_its_usual_span_is_applied_and_the_slider_widens(page, tmp_path):
+    box = type_into(page, "Omega (rad/s)", "1.5E2")
+    box.press("Enter")
+    visible_beside(page, re.compile(r"Omega = 150 rad/s \(typed '1\.5E2'\) is outside the slider's usual span "
+                                    r"\(0\.5 to 60\): applied, and the slider now spans 0\.5 to 300"), box)
+    page.screenshot(path=str(tmp_path / "widened_omega.png"))
+    wait_until(page, lambda: box.input_value() == "150", "the Omega box to show 150")
+    slider = box.locator("xpath=../../..").locator('[role="slider"]')
+    wait_until(page, lambda: slider.get_attribute("aria-valuemax") == "300", "the Omega slider to reach 300")
     toml = downloaded_scenario(page)
-    assert re.search(r"(?m)^Omega = 60(\.0)?$", toml), toml
+    assert re.search(r"(?m)^Omega = 150(\.0)?$", toml), toml  # applied, not clamped
     page.wait_for_timeout(1000)
     assert "fault" not in page.get_by_text(re.compile(r"Quasirigid explorer")).first.inner_text()
 

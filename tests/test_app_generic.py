@@ -75,3 +75,21 @@ def test_physics_sizes_a_figure_by_the_body_the_app_draws():
 
     for A, B, C, M in [(1.0, 1.0, 1.4, 1.0), (1.0, 1.0, 0.5, 2.0), (1.5, 1.0, 2.0, 1.0), (2.0, 2.0, 2.0, 5e-324)]:
         assert physics.figure.body_extent(A, B, C, M) == body_shape(A, B, C, M).extent
+
+
+def test_a_button_that_sets_sliders_sits_in_their_folder():
+    """Each control sits where the guide puts it (issue 24): a system's button that sets parameters ("Tune to
+    resonance" sets the spring k) is in the folder of the sliders it sets, under them, not in Model."""
+    from app.engine import controls
+    from app.engine.actions import system_actions
+
+    checked = 0
+    for s in physics.SYSTEMS.values():
+        sc = physics.Scenario.from_toml(s.example)
+        for a in system_actions(sc, "button"):
+            if a.apply is None or not a.shown(sc):
+                continue
+            folders = {controls.BY_KEY[k.partition("#")[0]].folder for k in a.apply(sc) if k in controls.BY_KEY}
+            assert folders <= {a.folder}, (s.name, a.label, a.folder, folders)
+            checked += bool(folders)
+    assert checked  # at least one such button exists: the test looks at something

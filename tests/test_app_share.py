@@ -424,3 +424,21 @@ def test_every_preset_title_is_offered_once_and_means_one_scene():
     files, shown = presets.preset_files(), presets.examples()
     for title in set(files) & set(shown):
         assert physics.Scenario.load(files[title]).to_dict() == physics.Scenario.from_toml(shown[title]).to_dict()
+
+
+def test_the_code_shown_follows_the_scene(monkeypatch):
+    """The Share folder says "Code of the scene as it is now": after a preset change (or a slider), it is the new
+    scene's code, not the one shown before (issue 24)."""
+    monkeypatch.setattr(share_panel, "SAVE_INTERVAL", 0.0)
+    eng, client, panel = panel_for(restore=False)
+    old = panel.share()
+    other = "Asymmetric body: intermediate-axis flip"
+    eng.request("preset", other)
+    eng.tick(0.0)
+    panel.tick()
+    assert panel.code.value != old and share.decode(panel.code.value) == eng.scenario == preset(other)
+    eng.request_value("body.M", 3.0)
+    eng.tick(0.0)
+    panel.tick()
+    assert share.decode(panel.code.value) == eng.scenario and eng.scenario.body.M == 3.0
+    assert panel.link.value.endswith(f"?scene={panel.code.value}")

@@ -288,7 +288,7 @@ def test_the_polhode_lies_on_the_drawn_inertia_ellipsoid():
 
 def test_overlays_and_badge_for_the_pendulum_systems():
     e = Engine(preset="Spherical pendulum damper, resonant")
-    assert "✗ fails: " in e.badge(block=True) and "auto → full" in e.badge(block=True)  # averaged conditions
+    assert ": not here (" in e.badge(block=True) and "auto → full" in e.badge(block=True)  # averaged conditions
     e.request("overlay", "averaged")
     ticks(e, 2)
     assert e.wait_overlay() and e.error == ""

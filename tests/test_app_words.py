@@ -314,3 +314,48 @@ def test_real_time_is_kept_only_while_it_is_affordable():
     c.measured(sim_dt=1.0, spent=1.0)  # affordable: real time, though it costs more than TICK_BUDGET_S
     assert c.allowance(frame, floor=frame) == pytest.approx(frame)
     assert 1.0 * TICK_BUDGET_S < frame < 1.0 * FLOOR_BUDGET_S
+
+
+def _badge_of(changes: dict) -> tuple[str, str]:
+    from app.engine.engine import Engine
+
+    e = Engine()
+    for key, value in changes.items():
+        e.request_value(key, value)
+    e.tick(0.0)
+    return e.badge(block=True), e.badge_details()
+
+
+@pytest.mark.parametrize("changes", [{}, {"mass.Omega": 30.0, "mass.chi": 10.0}, {"mass.Omega": 30.0, "mass.chi": 0.2}])
+def test_the_badge_and_details_list_one_set_of_conditions_that_agrees_with_auto(changes):
+    """Issue 24: the badge said "conditions hold ✓ ✓ ✓" above "conditions fail: Omega / chi = 60 > 5", tested eps
+    against 0.1 while auto used 0.2, and wrote "✗ fails: the damping of the mass is light". Now the badge, Details
+    and auto's choice use physics.validity_conditions, the conditions auto judges by."""
+    import re
+
+    badge, details = _badge_of(changes)
+    marks = re.findall(r"(?m)^([✓✗]) ", badge)
+    formula_marks = re.findall(r"(?m)^([✓✗]) ", details)
+    assert marks and marks == formula_marks  # the same conditions, met or not alike, in both places
+    unmet = marks.count("✗")
+    assert ("all met" in badge) == (unmet == 0) and (f"{unmet} not met" in badge) == (unmet > 0)
+    assert "auto → full" in badge or unmet == 0  # a condition not met sends auto to the full model
+    assert "conditions fail" not in badge and "fails:" not in badge and "holds:" not in badge
+    for line in re.findall(r"(?m)^✗ (.*)$", badge):
+        assert ": not here (" in line and " not too " not in line  # the requirement said plainly, once
+
+
+def test_the_initial_state_says_the_theta_the_run_starts_from_and_why_it_is_not_theta0():
+    """Issue 24: the Initial state slider said theta0 = 0.8 while theta read 0.868 at t = 0 (the mass's quasi-static
+    deflection adds to K). The folder now says the start's theta(0) and |K(0)| and why; nothing when they agree."""
+    e = Engine()
+    t0, theta0, K0 = e.plot_all.values()[0, :3]
+    assert t0 == 0.0 and abs(theta0 - 0.8) > 0.05
+    note = e.start_note()
+    assert f"theta(0) = {theta0:.4g} rad" in note and f"abs(K(0)) = {K0:.4g}" in note and "theta0 = 0.8 " in note
+    assert "moving part's own start adds to K" in note
+    e.request_value("mass.m", 0.0)  # no moving part: the run starts as the sliders say
+    e.tick(0.0)
+    e.request("reset")
+    e.tick(0.0)
+    assert e.plot_all.values()[0, 1] == pytest.approx(0.8, abs=1e-9) and e.start_note() == ""

@@ -184,8 +184,10 @@ def test_nothing_a_browser_sends_opens_a_server_path(monkeypatch, action):
         assert physics.Scenario.from_toml(eng.toml().decode()) == before  # and it can be exported
     assert opened.outside(ROOT / "assets", ROOT / "physics" / "data") == []
     assert eng.run.t >= t_before and np.all(np.isfinite(eng.run.y))
-    if action in ("preset", "upload", "mesh"):
+    if action in ("preset", "mesh"):
         assert eng.error  # said why
+    if action == "upload":  # said why, beside the upload button rather than at the top of the panel
+        assert eng.upload_note[0] == "refused" and "file" in eng.upload_note[1] and not eng.error
 
 
 # ---- meshes: command line only, validated ------------------------------------------------------------------

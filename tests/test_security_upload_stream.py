@@ -56,7 +56,7 @@ def _send(app, messages_of) -> object:
                 await ws.send(m)
             await asyncio.sleep(1.0)
             holder["buffered"] = dict(session.client.gui._current_file_upload_states)
-            holder["error"] = session.engine.error
+            holder["note"] = (session.engine.upload_note or ("", ""))[1]  # said beside the upload button
             holder["preset"] = session.engine.preset
 
     asyncio.run(go())
@@ -78,7 +78,7 @@ def test_an_announced_size_over_the_cap_is_refused_before_any_part(app):
 
     out = _send(app, messages)
     assert out["buffered"] == {}  # nothing of the 5 MB sent is held
-    assert f"at most {MAX_UPLOAD_BYTES} bytes" in out["error"] and "600000000 bytes" in out["error"]
+    assert f"at most {MAX_UPLOAD_BYTES} bytes" in out["note"] and "600000000 bytes" in out["note"]
 
 
 def test_a_client_that_lies_about_its_size_is_cut_off(app):
@@ -92,7 +92,7 @@ def test_a_client_that_lies_about_its_size_is_cut_off(app):
 
     out = _send(app, messages)
     assert out["buffered"] == {}
-    assert "more than" in out["error"] and "dropped" in out["error"]
+    assert "more than" in out["note"] and "dropped" in out["note"]
 
 
 def test_a_small_scenario_sent_the_same_way_loads(app):
@@ -106,7 +106,7 @@ def test_a_small_scenario_sent_the_same_way_loads(app):
                    content=content)
 
     out = _send(app, messages)
-    assert out["preset"] == "upload o.toml" and out["error"] == ""
+    assert out["preset"] == "upload o.toml" and out["note"].startswith("Loaded o.toml")
 
 
 def test_one_part_over_the_message_bound_is_refused_at_its_header(app):

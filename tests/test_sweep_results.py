@@ -141,7 +141,53 @@ def test_decay_time_heat_map_is_coloured_by_the_rate_growth_below_zero():
     assert z[0] < 0 < z[3] < min(z[1], z[2], z[4], z[5])  # growing below 0; the near-flat cell just above 0
     assert z[2] > z[5] > z[4] > z[1]  # faster decay, larger rate: the decaying cells keep their order
     assert heat.zmid == 0 and "1/tau" in heat.colorbar.title.text and "red grows" in fig.layout.title.text
+    blue, red = (lambda c: c[2] > c[0]), (lambda c: c[0] > c[2])
+    assert red(_cell_colour(heat, z[0])) and all(blue(_cell_colour(heat, v)) for v in z[1:])
     assert "decay_time = 2.5e+05 s" in heat.text[1][0]  # the hover still gives tau itself
+
+
+def _rgb(text: str) -> tuple[float, ...]:
+    return tuple(float(x) for x in text.strip("rgb() ").split(","))
+
+
+def _cell_colour(heat, z: float) -> tuple[float, ...]:
+    """The colour plotly draws a heat map's cell of value ``z`` in: its colour scale at z's place between the
+    bounds (symmetric about zmid when one is set), interpolated linearly."""
+    zs = [c for row in heat.z for c in row if c is not None]
+    lo, hi = min(zs), max(zs)
+    if heat.zmid is not None:
+        half = max(abs(lo - heat.zmid), abs(hi - heat.zmid))
+        lo, hi = heat.zmid - half, heat.zmid + half
+    t = 0.5 if hi == lo else (z - lo) / (hi - lo)
+    stops = [(float(p), _rgb(c)) for p, c in heat.colorscale]
+    for (p0, c0), (p1, c1) in zip(stops, stops[1:], strict=False):
+        if p0 <= t <= p1:
+            f = (t - p0) / (p1 - p0)
+            return tuple(a + f * (b - a) for a, b in zip(c0, c1, strict=True))
+    raise AssertionError(t)
+
+
+def test_a_heat_map_where_every_point_decays_is_blue_and_says_so():
+    """Issue 24: decay times of 15 to 2577 s (a rate span beyond LOG_SPAN, so log colours) were all drawn red
+    under "blue decays, red grows": the log of a rate below 1 is negative, and the scale was centred on 0."""
+    values = list(np.geomspace(15.0, 2577.0, 20))
+    fig = sweep_view.figure(_table(["mass.Omega", "mass.chi"], [list(range(1, 5)), list(range(1, 6))], values))
+    heat = fig.data[0]
+    z = [c for row in heat.z for c in row]
+    colours = [_cell_colour(heat, v) for v in z]
+    assert all(c[2] > c[0] for c in colours)  # every cell blue, not red
+    fastest, slowest = colours[0], colours[-1]
+    assert sum(fastest) < sum(slowest)  # the fastest decay (tau = 15 s) darkest
+    assert "every point decays" in fig.layout.title.text and "red" not in fig.layout.title.text
+
+
+def test_a_heat_map_where_every_point_grows_is_red_and_says_so():
+    values = [-10.0, -20.0, -40.0, -80.0, -160.0, -320.0]
+    heat_fig = sweep_view.figure(_table(["mass.Omega", "mass.chi"], [[1.0, 2.0], [1.0, 2.0, 3.0]], values))
+    heat = heat_fig.data[0]
+    colours = [_cell_colour(heat, v) for row in heat.z for v in row]
+    assert all(c[0] > c[2] for c in colours) and sum(colours[0]) < sum(colours[-1])  # fastest growth darkest
+    assert "every point grows" in heat_fig.layout.title.text
 
 
 def test_mixed_sign_outlier_is_clipped_and_the_scale_says_so():

@@ -224,14 +224,22 @@ def _mesh(eng, value) -> None:
 
 
 def _upload(eng, value) -> None:
-    """(file name, bytes) from the browser: through the parser, size-capped."""
+    """(file name, bytes) from the browser: through the parser, size-capped. What came of it is said beside the
+    upload button (``eng.upload_note``), not at the top of the panel: loaded, or refused with physics's reason."""
     from .upload import display_name, parse_upload
 
     name, content = value
-    sc = parse_upload(name, content)
-    eng.mesh = None
-    eng._load(sc, f"upload {display_name(name)}")
+    mesh = eng.mesh
+    try:
+        sc = parse_upload(name, content)
+        eng.mesh = None  # the file's body is drawn as its own inertia shape
+        eng._load(sc, f"upload {display_name(name)}")  # a ScenarioError here too leaves the scene as it was
+    except physics.ScenarioError as exc:
+        eng.mesh = mesh
+        eng.upload_note = ("refused", f"Not loaded: {exc}. The scene is unchanged.")
+        return
     eng.error = ""
+    eng.upload_note = ("loaded", f"Loaded {display_name(name)}; it starts at t = 0.")
 
 
 def _scenario(eng, value) -> None:

@@ -1,7 +1,8 @@
 """Compare mode: a second live run of the same scene with one difference the user picked (another value of
 one slider's parameter, or another fidelity), stepped on the engine's clock. No viser here: the engine owns
 a ``Comparison`` (``engine.compare``, None when off) and calls it from four places: ``_restarted`` (the
-first run started again: so does the second, from the same scene with the difference), ``_note_edit`` (an
+first run started again: so does the second, from the same state, K and attitude, with the difference carried
+onto it), ``_note_edit`` (an
 edit went on with the state kept: the second run is retuned the same way, its own K kept), ``_advance``
 (the same simulated dt, timed with the first run's, so the clock's budget counts both) and the "compare"
 action (``set_compare``). If one run faults or brakes, it shows its own status and the other goes on.
@@ -103,9 +104,17 @@ class Comparison:
 
     # ---- following the first run ---------------------------------------------------------------
     def restart(self, engine) -> None:
-        """From t = 0, as the first run just did. Raises ScenarioError when the scene with the difference
-        cannot run (the caller turns compare mode off and says why)."""
-        run = physics.LiveRun(second_scenario(engine, self.diff))
+        """From t = 0, as the first run just did, from the first run's start: the same inertial K (size and
+        direction) and the same attitude, so the same theta(0), with the difference carried onto it
+        (physics.LiveRun.retune); a difference in the start itself (a parameter that restarts: G0, theta0) starts
+        the second run from its own start. Raises ScenarioError when the scene with the difference cannot run
+        (the caller turns compare mode off and says why)."""
+        second = second_scenario(engine, self.diff)
+        run = physics.LiveRun(second)  # validates it; and the start it has of its own
+        if self.diff.key is None or not controls.BY_KEY[self.diff.key].restarts:
+            start = physics.LiveRun(engine.scenario)  # the first run's start: its K and attitude at t = 0
+            if start.retune(second, keep_state=True):
+                run = start
         self._save_for_undo(engine)
         self.run = run
         self.error = ""

@@ -204,10 +204,12 @@ def restarts(changed: dict) -> bool:
 
 
 def slider_range(p: Slider, value: float) -> tuple[float, float]:
-    """The slider's range: the spec's, widened to hold a preset's value with room to move."""
+    """The slider's range: the spec's, widened to hold a value beyond it (a preset's, a typed one) with room to
+    move (twice a value above it, at 2 significant digits; a value below it is the low end)."""
     lo, hi = p.lo, p.hi
     if value > hi:
-        hi = float(f"{2 * value:.2g}")
+        wide = float(f"{2 * value:.2g}")
+        hi = wide if math.isfinite(wide) else value  # 2 x 1e308 overflows: the value itself is the end
     if value < lo:
         lo = value
     return lo, hi

@@ -1,20 +1,16 @@
 """What a typed slider value becomes, where its message goes, and the way back from a change. No viser here.
 
-viser 1.1.1's slider number box (client/src/components/Slider.tsx, a Mantine NumberInput) sends every
-keystroke that parses as a number whatever the slider's range, and clamps to the range only when it loses
-focus, sending the clamped value then. Measured in chromium: typing -1 into m (range 0..1) sent -1, and
-the next click elsewhere sent 0; typing 1000000 into Omega (0.5..60) sent 1, 10, ..., 1e6, then 60 on Tab.
-viser's server passes both on unclamped. Hence:
+viser 1.1.1's slider number box (client/src/components/Slider.tsx, a Mantine NumberInput) dropped the characters
+it did not expect before sending (``1e-3`` arrived as -13, ``1,5`` as 15) and clamped to the slider's range when
+it lost focus. The page's script (``app.panel.typed_numbers``) keeps the box from sending anything: it sends the
+text as typed, read here (``app.engine.typed``). Hence:
 
-- a value physics rejects (m = -1) is not applied: the message goes beside the slider, under it, and the
-  slider goes back to the last good value once the user has stopped typing in its box;
-- a value physics accepts but outside the slider's range (Omega = 1e6) is clamped to the range's end,
-  with a note, rather than accepted with a warning: the browser clamps it anyway at the next click (so an
-  accepted 1e6 would silently become 60 then), the knob cannot show it, and the range is what the explorer
-  integrates at interactive speed (Omega = 1e6 gave E = 8.5e12 J, then a step size underflow). A scenario
-  file takes any valid value;
-- the browser's clamp-on-blur of an out-of-range value (the range's end, arriving just after it) is not
-  the user's choice and is dropped, so a rejected m = -1 never becomes m = 0;
+- a value physics rejects (m = -1, m = 1e308) is not applied: the message goes beside the slider, under it,
+  quoting what was typed, and the slider shows the last good value (at once for a typed value, once the user
+  has stopped dragging for a slider's own moves);
+- a text that is no number (``abc``, an empty box) is refused the same way;
+- a value physics accepts is applied, even outside the slider's usual span: nothing is clamped. The slider's
+  span widens to show it (``controls.slider_range``), and a note says the span was widened;
 - a change (the updates one slider sends in a row: a drag, the keystrokes of one number) can be undone:
   the parameters and the run's state of just before it come back.
 """
@@ -31,22 +27,19 @@ import numpy as np
 
 import physics
 
-from . import controls
+from . import controls, typed
 
-# A slider set back while the user is still typing in its box mixes the typed digits with the value set
-# back (typing 1000000 into Omega became "600": 100 was clamped to 60, then "0" was typed after it). viser
-# tells the server nothing about focus, so a slider is set back once it has sent nothing for a while, or at
-# once when the browser's clamp-on-blur says the user has left the box. On this 2-core machine under load
-# (software WebGL), keys typed 80 ms apart in headless chromium reached the server 0.4 to 2.1 s apart.
+# A slider set back while the user still drags it fights the hand; viser tells the server nothing about the
+# mouse, so a slider's own rejected value is set back once it has sent nothing for a while. A typed value comes
+# once, when the box is left or Enter is pressed: it is set back at once.
 TYPING_PAUSE_S = 3.0  # s without a new value from a slider before it is set back
-ECHO_WINDOW_S = 0.3  # s after a slider is set back: a clamp-on-blur sent before it arrived is still dropped
 UNDO_DEPTH = 20  # changes that can be undone one after another
 FAULT = "fault"  # a LiveRun's status when the integration stopped on an error (physics/stepping/live.py, not exported)
 
 
 @dataclass(frozen=True)
 class Note:
-    """A message beside the slider ``key``: ``kind`` is "rejected", "clamped" or "fault"; ``reason`` is
+    """A message beside the slider ``key``: ``kind`` is "rejected", "widened", "read" or "fault"; ``reason`` is
     physics's own text of a rejection (the engine's ``error``, which the top of the panel then omits)."""
 
     key: str | None
@@ -59,14 +52,17 @@ def _name(key: str) -> str:
     return controls.BY_KEY[key].label
 
 
-def _with_unit(key: str, value: float) -> str:
+def _with_unit(key: str, value: float, text: str | None = None) -> str:
+    """``value`` with the slider's unit; ``text``: as the user typed it, quoted instead of the number."""
+    if text is not None:  # a number as typed (app.engine.typed read it): 1e308, 1,5
+        return f"{text.strip()} {controls.BY_KEY[key].unit}".strip()
     if not _number(value):  # a raw client's string, list or None: as it came, with no unit
         return repr(value)[:40]
     unit = controls.BY_KEY[key].unit
     return f"{controls.fmt(value)} {unit}".strip()
 
 
-def rejected_text(key: str, value: float, reason: str, kept: float | None) -> str:
+def rejected_text(key: str, value: float, reason: str, kept: float | None, text: str | None = None) -> str:
     """``reason``: physics's ScenarioError text ("mass.m = -1.0: must be > 0"). Its own key and value are
     dropped when they repeat the slider's; a reason about another parameter is kept whole."""
     head = f"{key} = "
@@ -78,13 +74,30 @@ def rejected_text(key: str, value: float, reason: str, kept: float | None) -> st
     if p is not None and _number(value) and value < 0 and re.search(r"\b0 = no", p.hint):
         reason += f" (0 removes the {key.partition('.')[0]})"  # a switch: the Param says that 0 means none
     stays = "" if kept is None else f" {_name(key)} stays {_with_unit(key, kept)}."
-    return f"Rejected: {_name(key)} = {_with_unit(key, value)}: {reason.rstrip('.')}.{stays}"
+    return f"Rejected: {_name(key)} = {_with_unit(key, value, text)}: {reason.rstrip('.')}.{stays}"
 
 
-def clamped_text(key: str, value: float, lo: float, hi: float, used: float) -> str:
-    return (f"{_name(key)} = {_with_unit(key, value)} is outside this slider's range ({controls.fmt(lo)} to "
-            f"{controls.fmt(hi)}): set to {_with_unit(key, used)}, the range the explorer runs at interactive "
-            "speed. A scenario file (File, Load scenario) takes any valid value.")
+def widened_text(key: str, value: float, text: str | None = None) -> str:
+    """A value beyond the slider's usual span, applied: the span now reaches it."""
+    p = controls.BY_KEY[key]
+    lo, hi = controls.slider_range(p, value)
+    read = "" if text is None else f" (typed {typed.shown(text)})"
+    return (f"{_name(key)} = {_with_unit(key, value)}{read} is outside the slider's usual span ({controls.fmt(p.lo)} "
+            f"to {controls.fmt(p.hi)}): applied, and the slider now spans {controls.fmt(lo)} to {controls.fmt(hi)}. "
+            "Far outside it a run may need many more steps.")
+
+
+def read_text(key: str, value: float, text: str) -> str:
+    """A value typed with a decimal comma, applied: how it was read."""
+    return f"{_name(key)}: {typed.shown(text)} read as {_with_unit(key, value)} (a decimal comma)."
+
+
+def unreadable_text(key: str, text: str, why: str, kept: float | None) -> str:
+    """A typed text that is no number (``app.engine.typed``)."""
+    stays = "" if kept is None else f" {_name(key)} stays {_with_unit(key, kept)}."
+    if not str(text).strip():
+        return f"{_name(key)}: {why}; nothing changed.{stays}"
+    return f"Rejected: {_name(key)} = {typed.shown(text)}: {why}.{stays}"
 
 
 def shown_note(guard: Guard, status: str, message: str) -> Note | None:
@@ -106,94 +119,75 @@ def _number(value) -> bool:
 
 
 class Guard:
-    """Per tab: the limits each slider had when it sent a value, the browser's clamp echoes to drop, the
-    note beside a slider, and the undo stack. ``received`` runs on GUI threads under the engine's lock;
-    the rest on the loop thread."""
+    """Per tab: the typed texts of the values received, the note beside a slider, the sliders to set back and the
+    undo stack. ``received`` and ``unreadable`` run on GUI threads under the engine's lock; the rest on the loop
+    thread."""
 
     def __init__(self):
-        self._lock = threading.Lock()  # received() runs on GUI threads; take_dropped() on the loop thread
-        self._dropped: set[str] = set()  # sliders whose browser echo was dropped: the browser shows it
+        self._lock = threading.Lock()  # received() runs on GUI threads; take_revert() on the loop thread
         self._typed_at: dict[str, float] = {}  # slider key -> when it last sent a value (perf_counter s)
+        self._texts: dict[str, str] = {}  # slider key -> the text its pending value was typed as
         self.epoch = 0  # bumped by every fresh start of the buffers (engine._restarted)
         self.loaded: tuple | None = None  # (scenario, name) as loaded: what "reset the scene" reloads
-        self.limits: dict[str, tuple[float, float]] = {}  # slider key -> (min, max) it showed
-        self._echo: dict[str, tuple[float, float | None]] = {}  # key -> (value to drop, applied at)
         self.note: Note | None = None
         self.rejections: list[str] = []  # physics's reasons for the values the last screen rejected
         self.screened: physics.Scenario | None = None  # what the last screen built with the values it accepted
-        self.revert: dict[str, float] = {}  # sliders the session pushes back to these (last good) values
+        self.revert: dict[str, float] = {}  # slider -> the value it must show: the last good, or a typed one
         self.undo: list[Snapshot] = []
         self._chain: str | None = None  # key of the change in progress (a drag): later values extend it
         self._chain_at = -math.inf  # when it last moved: after TYPING_PAUSE_S, the same slider starts a new one
         self.last_key: str | None = None  # the slider of the last applied change: a fault's note goes there
 
     # ---- GUI threads ---------------------------------------------------------------------------------
-    def received(self, key: str, value, limits: tuple[float, float] | None) -> bool:
-        """Record a slider's ``limits`` with its value; False for the browser's clamp of a value out of range
-        (drop it), sent before the slider was set back or just after. ``key``: the slider's (no bob suffix)."""
+    def received(self, key: str, value, text: str | None = None) -> None:
+        """A slider's value arrived; ``text``: what the user typed into its box (its value is then set back at
+        once if refused), None for the slider's own move. ``key``: the slider's (no bob suffix)."""
         with self._lock:
-            now = time.perf_counter()
-            echo = self._echo.pop(key, None)
-            if echo is not None and _number(value) and value == echo[0]:
-                if echo[1] is None or now - echo[1] < ECHO_WINDOW_S:
-                    self._dropped.add(key)  # the browser now shows the echo: the slider must be set back
-                    self._typed_at.pop(key, None)  # and the user has left the box: at once
-                    return False
-            self._typed_at[key] = now
-            if limits is not None:
-                self.limits[key] = (float(limits[0]), float(limits[1]))
-                lo, hi = self.limits[key]
-                if _number(value) and not lo <= value <= hi and math.isfinite(value):
-                    self._echo[key] = (min(max(value, lo), hi), None)
-            return True
+            self._typed_at[key] = -math.inf if text is not None else time.perf_counter()
+            if text is not None:
+                self._texts[key] = text
+            else:
+                self._texts.pop(key, None)
+
+    def unreadable(self, key: str, text: str, why: str, kept: float | None) -> None:
+        """A text typed into ``key``'s box that is no number: refused, with ``why``; nothing is applied."""
+        self.note = Note(key, "rejected", unreadable_text(key, text, why, kept), why)
 
     def take_revert(self, now: float | None = None) -> dict[str, float]:
-        """Sliders to set back now (loop thread), to their last good value or a clamped one: those that have
-        sent nothing for TYPING_PAUSE_S. From then on, their echo window runs."""
+        """Sliders to set back now (loop thread), to their last good value: those that have sent nothing for
+        TYPING_PAUSE_S, and typed ones at once."""
         now = time.perf_counter() if now is None else now
         with self._lock:
             ready = {k: v for k, v in self.revert.items() if now - self._typed_at.get(k, -math.inf) >= TYPING_PAUSE_S}
             for key in ready:
                 del self.revert[key]
-                if key in self._echo:
-                    self._echo[key] = (self._echo[key][0], now)
             return ready
-
-    def take_dropped(self) -> set[str]:
-        with self._lock:
-            dropped, self._dropped = self._dropped, set()
-            return dropped
 
     # ---- loop thread ---------------------------------------------------------------------------------
     def screen(self, base: physics.Scenario, changes: dict, pending: dict, values: dict) -> dict:
-        """``pending`` without the values physics rejects, out-of-range values clamped. Sets ``note`` (the
-        last one wins), ``revert`` (sliders to push back) and the rejections' text (``rejections``), and
-        ``screened``: the scenario ``base`` becomes with the accepted values, built while judging the last of
-        them (None when a value was let through unjudged), so that applying them need not build it again."""
+        """``pending`` without the values physics rejects. Sets ``note`` (the last one wins), ``revert`` (sliders
+        to push back) and the rejections' text (``rejections``), and ``screened``: the scenario ``base`` becomes
+        with the accepted values, built while judging the last of them (None when a value was let through
+        unjudged), so that applying them need not build it again. A value outside its slider's usual span is
+        applied (the panel widens the span), with a note."""
         accepted: dict = {}
         self.rejections = []
         self.screened = None
         fresh = False
+        with self._lock:
+            texts = {k: self._texts.pop(k) for k in list(self._texts) if any(f.partition("#")[0] == k for f in pending)}
         for full_key, value in pending.items():
             key = full_key.partition("#")[0]
             if key not in controls.BY_KEY or not _number(value):
                 accepted[full_key] = value  # not a slider value: apply_changes judges it
                 self.screened = None
                 continue
+            text = texts.get(key)
             reason, built = _judged(base, changes, accepted, full_key, value)
-            lo, hi = self.limits.get(key, (-math.inf, math.inf))
-            if reason is None and not lo <= value <= hi:
-                used = min(max(value, lo), hi)
-                reason, built = _judged(base, changes, accepted, full_key, used)
-                if reason is None:
-                    self.note, fresh = Note(key, "clamped", clamped_text(key, value, lo, hi, used)), True
-                    self.revert[key] = used
-                    accepted[full_key] = used
-                    self.screened = built  # with every value accepted so far
-                    continue
             if reason is not None:
                 kept = values.get(key)
-                self.note, fresh = Note(key, "rejected", rejected_text(key, value, reason, kept), reason), True
+                self.note = Note(key, "rejected", rejected_text(key, value, reason, kept, text), reason)
+                fresh = True
                 self.rejections.append(reason)
                 if kept is not None:
                     self.revert[key] = kept
@@ -201,6 +195,13 @@ class Guard:
             accepted[full_key] = value
             self.screened = built  # with every value accepted so far
             self.revert.pop(key, None)  # a good value typed since: nothing to set back
+            if text is not None:
+                self.revert[key] = value  # the slider (moved by no one) shows the value typed, now running
+            p = controls.BY_KEY[key]
+            if not p.lo <= value <= p.hi:
+                self.note, fresh = Note(key, "widened", widened_text(key, value, text)), True
+            elif text is not None and "," in text:  # read with a decimal comma (app.engine.typed)
+                self.note, fresh = Note(key, "read", read_text(key, value, text)), True
         if accepted and not fresh:
             self.note = None  # an accepted edit: an older note no longer describes the panel
         return accepted

@@ -20,7 +20,7 @@ import numpy as np
 
 import physics
 
-from . import controls, edits, output, presets
+from . import controls, edits, output, presets, words
 from . import frame as frames
 from .actions import act, choices_of, system_actions, with_choices
 from .buffers import (
@@ -70,6 +70,7 @@ class Engine:
         self.auto_badge = Badge(lambda: self.scenario)  # auto's choice in words, worked out off the loop thread
         self.prediction = Overlay(self._plots_changed, self._fail)  # the cheaper model's, off the loop thread
         self.error = ""
+        self.upload_note: tuple[str, str] | None = None  # ("loaded" or "refused", words): beside the upload button
         self.guard = edits.Guard()  # typed values judged, notes beside sliders, undo (app.engine.edits)
         self.clock = Clock()
         self._last_frame: Frame | None = None  # shown again, as a fault, if a state cannot be observed
@@ -88,17 +89,21 @@ class Engine:
         self._load(scenario or presets.load_preset(preset), name)
 
     # ---- requests from GUI callbacks (any thread) -------------------------------------------
-    def request_value(self, key: str, value, limits: tuple[float, float] | None = None) -> int:
-        """A slider's new value; ``limits``: the slider's (min, max) then (app.engine.edits clamps a value beyond them
-        and drops the browser's clamp echo). A slider of an array table edits the item an "item" action chose."""
+    def request_value(self, key: str, value, text: str | None = None) -> int:
+        """A slider's new value; ``text``: what the user typed into its box (app.engine.typed read it), None for the
+        slider's own move. A slider of an array table edits the item an "item" action chose."""
         slider = key
         key = controls.item_key(key, self.scenario.system, self.item)  # one item chosen: that item
         with self._lock:
-            if not self.guard.received(slider, value, limits):
-                return self.change_seq  # the browser's own clamp of a value just judged: not the user's
+            self.guard.received(slider, value, text)
             self._pending[key] = value
             self.value_requested_at = time.monotonic()  # app.panel.playbar drops a keyed step a focused slider took
             return self._bump()
+
+    def refuse_typed(self, key: str, text: str, why: str) -> None:
+        """A text typed into ``key``'s box that is no number (``why``): said beside the slider, nothing applied."""
+        with self._lock:
+            self.guard.unreadable(key, text, why, self.values.get(key))
 
     def request(self, action: str, value=None) -> int:
         """Actions: play, pause, step, reset, warp, preset, system, fidelity, restart_on_change,
@@ -302,11 +307,9 @@ class Engine:
 
     def _apply_guarded(self, pending: dict) -> None:
         """Slider values through the guard (app.engine.edits): a value physics rejects is not applied and its
-        slider goes back to the last good value, one beyond the slider's range is clamped; each change is
-        saved for undo first."""
+        slider goes back to the last good value; one beyond the slider's usual span is applied and the span
+        widens; each change is saved for undo first."""
         guard = self.guard
-        for key in guard.take_dropped():  # the browser shows a clamp echo that was not applied: set it back
-            guard.revert[key] = self.values[key]
         if not pending:
             return
         accepted = guard.screen(self._chosen_base(), self.changes, pending, self.values)
@@ -341,11 +344,14 @@ class Engine:
         for k, v in pending.items():
             key, _, which = k.partition("#")
             if not isinstance(v, str) and (not which or int(which) == (self.item or 0)):
+                p = controls.BY_KEY.get(key)
+                if p is not None and controls.slider_range(p, v) != controls.slider_range(p, self.values[key]):
+                    self.sliders_changed = True  # the slider's span widens to show the value (or narrows back)
                 self.values[key] = v
-        words = [k.partition("#")[0] for k, v in changes.items() if isinstance(v, str)]
-        if words:  # a value given in words (a tuned spring, "resonant"): its slider shows what it resolves to
+        worded = [k.partition("#")[0] for k, v in changes.items() if isinstance(v, str)]
+        if worded:  # a value given in words (a tuned spring, "resonant"): its slider shows what it resolves to
             resolved = controls.values_of(sc, self.item)
-            self.values.update({k: resolved[k] for k in words if k in resolved})
+            self.values.update({k: resolved[k] for k in worded if k in resolved})
             self.sliders_changed = True
         self.error = ""
         self.shape = self._shape(sc)
@@ -497,6 +503,14 @@ class Engine:
         d = output.readouts(self.run, self.world_wxyz, self.edit_dE, self.edit_note)
         d.update(output.end_readouts(self.end_state(), float(self.run.last.E[0])))
         return d
+
+    def start_note(self) -> str:
+        """The theta(0) and |K(0)| the run started from, where they differ from the Initial state sliders, and why
+        (``words.start_words``); "" otherwise."""
+        rows = self.plot_all.values()
+        if not len(rows) or rows[0, 0] != 0.0:
+            return ""
+        return words.start_words(self.start_scenario, float(rows[0, 1]), float(rows[0, 2]))
 
     def details(self) -> dict[str, str]:
         """The model and the raw attitude, and the end state in words, for the Details folder (``output.details``)."""

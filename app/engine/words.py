@@ -29,11 +29,18 @@ def condition_words(c) -> str:
     return c.sentence or c.name
 
 
+def condition_line(c) -> str:
+    """One line of the badge: a condition met, "✓ the spring is fast next to the spin", or not, "✗ the spring is
+    fast next to the spin: not here (eps = |w0|/Omega = 0.52 > 0.2)": the requirement said once, as it is, and
+    whether this scene meets it (never "fails: ... is light", which reads as a double negative)."""
+    return f"✓ {condition_words(c)}" if c.holds else f"✗ {condition_words(c)}: not here ({c})"
+
+
 def reason_words(reason: str, conds: list) -> str:
     """Auto's reason (physics' sentence, which quotes the conditions' formulas) in words; once the badge
     has listed the conditions, only what the sentence adds to them ("closed form exists")."""
-    if conds and reason.startswith("averaged conditions fail"):
-        return ""
+    if conds and reason.startswith(("averaged conditions fail", "conditions fail")):
+        return ""  # the badge's ✗ lines say which: the same conditions (physics.validity_conditions)
     if conds and reason.startswith("averaged conditions hold"):
         reason = reason.rpartition("; ")[2] if "; " in reason else ""
     for c in conds:
@@ -67,15 +74,17 @@ def badge_parts(d: dict, conds: list) -> tuple[str, str]:
              else f"accuracy asked: {physics.DEFAULT_ACCURACY:g} rad (the default)"]
     lines += estimate_words(d)
     if conds:
-        lines.append(f"the papers' conditions for averaging {'hold' if all(c.holds for c in conds) else 'fail'}:")
-        lines += [f"{'✓ holds' if c.holds else '✗ fails'}: {condition_words(c)}" for c in conds]
+        unmet = sum(not c.holds for c in conds)
+        lines.append("what a cheaper model needs here: " + ("all met" if not unmet else f"{unmet} not met"))
+        lines += [condition_line(c) for c in conds]
     why = reason_words(d["auto_reason"], conds)
     shown = head + "  \n" + "  \n".join(lines) + (f"  \n_{why}_" if why else "")
     details = [f"auto's reason: {d['auto_reason']}"]
     if d.get("error_bound_method"):
         details.append(f"how the error estimates were obtained: {d['error_bound_method']}")
     if conds:
-        details += ["averaged model's conditions:"] + [f"{condition_words(c)}: {c}" for c in conds]
+        details += ["what a cheaper model needs (the badge's list, as formulas):"]
+        details += [f"{'✓' if c.holds else '✗'} {c}" for c in conds]
     return shown, "  \n".join(details)
 
 
@@ -122,3 +131,20 @@ def euler_angles(wxyz) -> tuple[float, float, float]:
         r11, r21 = 1 - 2 * (y * y + z * z), 2 * (x * y + w * z)
         return math.atan2(r21, r11), theta, 0.0
     return math.atan2(r13, -r23), theta, math.atan2(r31, r32)
+
+
+START_SAME = 5e-5  # rad, and relative for |K|: below this the start is as set (the readouts show 4-6 digits)
+
+
+def start_words(sc, theta_start: float, K_start: float) -> str:
+    """Under the Initial state sliders: the theta(0) and |K(0)| the run starts from, and why they differ from the
+    sliders when they do (the sliders set the frozen body's spin J* w0; a moving part's own start adds to K and
+    turns it away from that). "" when the run starts as the sliders say."""
+    start = {p.label: (p, physics.base_values(sc)[p.key]) for p in physics.BASE_PARAMS if p.restarts}
+    angle = next((p, v) for p, v in start.values() if p.unit == "rad")
+    size = next((p, v) for p, v in start.values() if p.unit != "rad")
+    if abs(theta_start - angle[1]) <= START_SAME and abs(K_start - size[1]) <= START_SAME * max(size[1], 1e-300):
+        return ""
+    return (f"The run starts at theta(0) = {theta_start:.4g} rad and abs(K(0)) = {K_start:.4g} {size[0].unit}: "
+            f"{angle[0].label} = {angle[1]:.4g} and {size[0].label} = {size[1]:.4g} set the frozen body's spin "
+            "(J* w0); the moving part's own start adds to K and turns it.")

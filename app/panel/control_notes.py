@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..engine.edits import Note
 
-COLORS = {"rejected": "#c00", "fault": "#c00", "clamped": "#a15c00"}
+COLORS = {"rejected": "#c00", "fault": "#c00", "widened": "#a15c00", "read": "#555"}
 UNDO_LABEL = "Undo the last change"
 RESET_LABEL = "Reset the scene"
 

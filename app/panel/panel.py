@@ -25,6 +25,7 @@ from .compare_plots import ComparePlots
 from .control_notes import NotePlace
 from .energy_plot import EnergyChart
 from .playbar import Playbar
+from .typed_numbers import TypedNumbers
 
 EDITED = " (edited)"  # the preset dropdown's name for a preset changed since it was loaded
 ALL = "all"  # an item action's first option: the sliders edit every item
@@ -115,6 +116,9 @@ class Panel:
         for title, folder in self.folders.items():
             with folder:
                 self._add_actions(title)
+        start = next(p.folder for p in controls.PARAMS if p.base and p.restarts)  # the Initial state folder
+        with self.folders[start]:
+            self.start_md = gui.add_markdown("")  # the theta(0) the run starts from, when not the slider's
         with gui.add_folder("View"):
             self.view = gui.add_dropdown("Frame", ["inertial", "body"], initial_value="inertial",
                                          hint="inertial: K fixed and pointing up; body: the body stays still")
@@ -139,6 +143,7 @@ class Panel:
             self.csv_btn = gui.add_button("Download trajectory (CSV)")
             self.upload = gui.add_upload_button("Load scenario (TOML)", mime_type=".toml",
                                                 hint="a scenario file, as `python -m physics` reads (64 kB at most)")
+            self.upload_md = gui.add_markdown("")  # what came of an upload, under its button (engine.upload_note)
             self.replay = ReplayButton(gui, eng, self.client)  # the scene as an offline HTML replay (app.replay.export)
         self.share = SharePanel(gui, eng, self.client, restore=self.restore)  # code, link, last scene (share_panel)
         self._lazy_panel("Speed vs accuracy", "speed_panel", "SpeedPanel",
@@ -205,6 +210,11 @@ class Panel:
             f = self.upload.value
             eng.request("upload", (f.name, f.content))
 
+        others = [(self.warp, lambda v: eng.request("warp", 10.0 ** v))]  # the sliders that are no parameter
+        others += [(self.action_widgets[a.name], lambda v, a=a: eng.request(a.name, v))
+                   for a in system_actions(None) if a.kind not in ("button", "choice", "item")]
+        self.typed = TypedNumbers(gui, self.sliders, eng, others)  # what is typed in a slider's box, read here
+
     def _lazy_panel(self, title: str, module: str, cls: str, apply, **options) -> None:
         """A folder whose panel is built on first open: panels pull in plotly (and its script in the
         browser), which the first frame should not wait for."""
@@ -229,7 +239,7 @@ class Panel:
         def _(event):
             if event.client is None:
                 return
-            self.engine.request_value(key, float(slider.value), limits=(slider.min, slider.max))
+            self.engine.request_value(key, float(slider.value))
 
     def sync(self) -> None:
         """After a preset or system change: slider values, ranges and which folders apply."""
@@ -240,6 +250,7 @@ class Panel:
             lo, hi = controls.slider_range(p, eng.values[key])
             set_if_changed(slider, "min", lo)
             set_if_changed(slider, "max", hi)
+            set_if_changed(slider, "precision", _digits(p.step, lo, hi, eng.values[key]))  # the box shows the value
             set_if_changed(slider, "value", min(max(eng.values[key], lo), hi))
             set_if_changed(slider, "disabled", system not in p.systems)
         shown = controls.folders_of(system)  # the body's, the start's and the system's own
@@ -313,6 +324,7 @@ class Panel:
             self.readout_md.content = _readout_md(eng)
             set_if_changed(self.compare_md, "content", compare_readout_md(eng))
             set_if_changed(self.details_md, "content", _details_md(eng))
+            set_if_changed(self.start_md, "content", eng.start_note())
         if plots_now:
             self._sync_preset()  # "(edited)" after a slider change, which does not resync the panel
             self.compare.sync()  # "off" when a new scene could not take the difference
@@ -320,6 +332,7 @@ class Panel:
         self._sync_choices()  # follow the dropdowns, an upload, an undo, a system change
         for key, value in eng.guard.take_revert().items():  # a rejected value's slider shows the last good one
             set_if_changed(self.sliders[key], "value", value)
+        set_if_changed(self.upload_md, "content", _upload_md(eng.upload_note))
         note = edits.shown_note(eng.guard, fr.status, words.status_words(fr.message or ""))
         self.notes.show(note, can_undo=bool(eng.guard.undo))
         beside = note is not None and note.reason == eng.error  # shown under its slider: not again up here
@@ -352,6 +365,24 @@ def _build_sliders(gui, values: dict[str, float]) -> tuple[dict, dict]:
                 sliders[key] = gui.add_slider(p.text, min=lo, max=hi, step=p.step,
                                               initial_value=min(max(values[key], lo), hi), hint=p.hint)
     return sliders, folders
+
+
+def _upload_md(note: tuple[str, str] | None) -> str:
+    """The upload's outcome, under the Load button: red for a refusal. It stands in for viser's own "File uploaded
+    successfully", which the page's script rewords (app.panel.typed_numbers), since a file received may be refused."""
+    if note is None:
+        return ""
+    kind, text = note
+    return f"<span style='color:{'#c00' if kind == 'refused' else '#555'}'>{text}</span>"
+
+
+def _digits(*values: float, most: int = 7) -> int:
+    """Decimals the slider's box shows: enough for each of ``values`` (0.001 needs 3), at most ``most``."""
+    digits = 0
+    for x in values:
+        while digits < most and np.isfinite(x) and round(x, digits) != x:
+            digits += 1
+    return digits
 
 
 def _system_label(system: str) -> str:

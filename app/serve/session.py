@@ -55,7 +55,7 @@ class Session:
         self.thread.start()
 
     def _refuse_upload(self, message: str) -> None:
-        self.engine.error = message  # shown beside the upload button's panel as any rejection is
+        self.engine.upload_note = ("refused", f"Not loaded: {message}. The scene is unchanged.")  # beside the button
 
     def _refuse_value(self, message: str) -> None:
         self.engine.error = message  # the panel's note, as the app's own refusals are shown

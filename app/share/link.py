@@ -52,13 +52,15 @@ TOO_LONG_PAGE = (
 _lock = threading.Lock()
 _installed = False
 _pages: dict[tuple[int, bool], bytes] = {}  # (id of viser's cached page, gzipped) -> the page with the script
+_scripts: list[bytes] = []  # the app's other page scripts (app.panel.typed_numbers), after SCRIPT
 
 
 def with_script(html: bytes) -> bytes:
-    """viser's page with SCRIPT at the start of its head, so it runs before the client's own script."""
+    """viser's page with SCRIPT (and the scripts ``install`` was given) at the start of its head, so they run
+    before the client's own script."""
     head = html.find(b"<head>")
     at = head + len(b"<head>") if head >= 0 else 0
-    return html[:at] + SCRIPT + html[at:]
+    return html[:at] + SCRIPT + b"".join(_scripts) + html[at:]
 
 
 def _page_response(response):
@@ -149,11 +151,16 @@ def _long_request_lines() -> None:
     http11.Request.parse = classmethod(parse)
 
 
-def install() -> None:
-    """Wrap websockets' server factory, so the servers made afterwards serve the page with the script and answer
-    a link too long with a page that says so."""
+def install(*scripts: bytes) -> None:
+    """Wrap websockets' server factory, so the servers made afterwards serve the page with the script (and
+    ``scripts``, each a ``<script>`` element of the app's, added once) and answer a link too long with a page that
+    says so."""
     global _installed
     with _lock:
+        for script in scripts:
+            if script not in _scripts:
+                _scripts.append(script)
+                _pages.clear()  # pages made before carry no such script
         if _installed:
             return
         import websockets.asyncio.server as ws_server

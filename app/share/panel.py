@@ -49,6 +49,8 @@ class SharePanel:
         self._saved_code: str | None = None
         self._saved_at = float("-inf")
         self._note, self._note_until = "", 0.0
+        self._shown: physics.Scenario | None = None  # the scene whose code the Share folder shows
+        self._shown_at = float("-inf")
         with gui.add_folder("Share", expand_by_default=False):
             self.share_btn = gui.add_button("Share this scene", hint="a short code, and a link carrying it, that "
                                             "reproduce this scene exactly (slider changes included), from t = 0")
@@ -76,8 +78,10 @@ class SharePanel:
 
     # ---- the Share folder ------------------------------------------------------------------------
     def share(self) -> str:
-        """Show the code and the link of the scene as it is now; returns the code."""
-        code = encode(self.engine.scenario)
+        """Show the code and the link of the scene as it is now; returns the code. Once shown, they follow the
+        scene (``tick``): a preset chosen or a slider moved since gives a new code, as the words above it say."""
+        self._shown, self._shown_at = self.engine.scenario, time.monotonic()
+        code = encode(self._shown)
         self.code.value = code
         self.code.visible = True
         if self.page_url:
@@ -115,13 +119,16 @@ class SharePanel:
 
     # ---- the browser's storage ---------------------------------------------------------------------
     def tick(self) -> None:
-        """Called with every published frame: keeps the browser's last scene, when the scene changed, at most
-        once per SAVE_INTERVAL, and never before the stored one was read (it would be overwritten unread)."""
+        """Called with every published frame: the code shown follows the scene, and the browser keeps the last
+        scene, when the scene changed, at most once per SAVE_INTERVAL, and never before the stored one was read (it
+        would be overwritten unread)."""
         eng = self.engine
-        if not self.ready.is_set() or eng.applied_seq < self._hold_seq:
-            return
         sc = eng.scenario
         now = time.monotonic()
+        if self.code.visible and sc is not self._shown and now - self._shown_at >= SAVE_INTERVAL:
+            self.share()  # the code shown is always the scene's as it is now (a drag: once a SAVE_INTERVAL)
+        if not self.ready.is_set() or eng.applied_seq < self._hold_seq:
+            return
         if sc is self._saved or now - self._saved_at < SAVE_INTERVAL:
             return
         self._saved, self._saved_at = sc, now

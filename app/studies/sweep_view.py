@@ -5,7 +5,7 @@ the points whose nutation decays (tau > 0; tau < 0 grows, inf is flat), never th
 The colour scale copes with outliers: a positive metric spanning more than LOG_SPAN is coloured by its
 logarithm, otherwise the colours are clipped to Tukey's fences around the middle half of the values;
 the colour bar's title says which. A decay_time heat map is coloured by the decay rate 1/tau (see
-``coloured``), on a diverging scale centred on 0.
+``coloured``): blue decays, red grows, its caption saying which the cells shown are (``rate_colours``).
 """
 
 from __future__ import annotations
@@ -189,6 +189,29 @@ def coloured(table: physics.SweepTable) -> tuple[np.ndarray, str, bool]:
     return values, physics.METRICS[table.metric].unit, False
 
 
+# blue for a decay (rate > 0), red for growth (rate < 0), white for flat; written out, so that which end is which
+# does not hang on a library's naming (plotly.py's "RdBu" runs red to blue, plotly.js's blue to red)
+BLUES = [[0.0, "rgb(247,251,255)"], [0.5, "rgb(107,174,214)"], [1.0, "rgb(8,48,107)"]]
+REDS = [[0.0, "rgb(103,0,13)"], [0.5, "rgb(239,59,44)"], [1.0, "rgb(255,245,240)"]]
+RED_WHITE_BLUE = [[0.0, "rgb(178,24,43)"], [0.5, "rgb(247,247,247)"], [1.0, "rgb(33,102,172)"]]
+
+
+def rate_colours(rates, what: str) -> tuple[ColourScale, dict, str]:
+    """(scale, the heat map's colour settings, its caption) for decay rates 1/tau: the colours say the sign, and
+    the caption says what they mean for the cells shown. Every point decaying (or flat): blues, darker decays
+    faster, a log scale when the rates span more than LOG_SPAN; every point growing: reds, darker grows faster;
+    both: red, white at 0, blue, on a linear (clipped) scale centred on 0, so no transform moves a cell across 0."""
+    r = np.asarray([x for x in rates if math.isfinite(x)], dtype=float)
+    if r.size == 0 or r.min() >= 0:
+        return (colour_scale(rates, what), {"colorscale": BLUES},
+                "decay rate 1/tau: every point decays, darker decays faster")
+    if r.max() <= 0:
+        return (colour_scale(rates, what), {"colorscale": REDS},
+                "decay rate 1/tau: every point grows (rate < 0), darker grows faster")
+    return colour_scale(rates, what), {"colorscale": RED_WHITE_BLUE, "zmid": 0.0}, \
+        "decay rate 1/tau: blue decays, red grows, white is flat"
+
+
 def _decades(lo: float, hi: float) -> list[float]:
     a, b = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
     return [float(e) for e in range(a, b + 1)]
@@ -220,7 +243,11 @@ def figure(table: physics.SweepTable, stale: bool = False):
     else:
         n1, n2 = table.shape
         shown, what, diverging = coloured(table)
-        scale = colour_scale(shown, what)
+        heat, caption = {"colorscale": "Viridis"}, ""
+        if diverging:
+            scale, heat, caption = rate_colours(shown, what)
+        else:
+            scale = colour_scale(shown, what)
         z = np.array([scale.apply(v) for v in shown], dtype=object).reshape(n1, n2).tolist()
         text = np.array([f"{metric} = {controls.fmt(v)} {unit}" if not table.rows[i]["error"] and not math.isnan(v)
                          else ("failed" if table.rows[i]["error"] else "n/a") for i, v in enumerate(values)],
@@ -229,9 +256,6 @@ def figure(table: physics.SweepTable, stale: bool = False):
         if scale.kind == "log":
             ticks = _decades(scale.lo, scale.hi)
             bar.update(tickvals=ticks, ticktext=[controls.fmt(10.0 ** t, 3) for t in ticks])
-        heat = {"colorscale": "Viridis"}
-        if diverging:  # blue decays, red grows, white is flat: the sign reads at a glance
-            heat = {"colorscale": "RdBu", "zmid": 0.0}
         fig.add_trace(go.Heatmap(x=list(table.axes[1]), y=list(table.axes[0]), z=z, text=text, colorbar=bar,
                                  hovertemplate=(f"{table.keys[1]} = %{{x:.4g}}<br>{table.keys[0]} = "
                                                 "%{y:.4g}<br>%{text}<extra></extra>"), **heat))
@@ -244,8 +268,8 @@ def figure(table: physics.SweepTable, stale: bool = False):
         fig.update_xaxes(title_text=table.keys[1], type="log" if table.spacing[1] == "log" else "linear")
         fig.update_yaxes(title_text=table.keys[0], type="log" if table.spacing[0] == "log" else "linear")
     title = metric
-    if len(table.keys) > 1 and metric == "decay_time":
-        title = "decay rate 1/tau: blue decays, red grows"
+    if len(table.keys) > 1 and caption:
+        title = caption
     title += (", best ringed" if b is not None else "") + (" - STALE: the scene changed" if stale else "")
     fig.update_layout(title={"text": title, "font": {"size": 13}}, margin={"l": 60, "r": 10, "t": 34, "b": 44})
     return fig

@@ -38,7 +38,7 @@ from physics.registry import Condition, get_model
 from physics.scenario.scenario import Scenario
 from physics.systems.choice import cheapest_within
 from physics.systems.moving_mass.coefficients import coefficients
-from physics.systems.moving_mass.validity import structural_failures
+from physics.systems.moving_mass.validity import FAST_SPRING, structural_conditions, structural_failures
 
 PATH_SAMPLES = 257  # points of the cheaper model's theta(t) the terms are read from
 # Fitted on the calibration set (issue 23: the moving-mass draws of python -m bench fidelity --workers 2, seed 15,
@@ -76,13 +76,22 @@ def domain(sc: Scenario) -> list[Condition]:
     ms, A, C = sc.mass, sc.body.A, sc.body.C
     th0 = min(co.theta0, math.pi - co.theta0)
     chi = ms.chi / ms.Omega
-    return [Condition("eps = |w0|/Omega", co.omega0 / ms.Omega, DOMAIN_EPS, "the spring is fast next to the spin"),
+    return [Condition("eps = |w0|/Omega", co.omega0 / ms.Omega, DOMAIN_EPS, FAST_SPRING),
             Condition("m rho^2 / A", ms.m * ms.rho * ms.rho / A, DOMAIN_KAPPA, "the mass is light next to the body"),
             Condition("1 / |1 - C/A|", 1.0 / max(abs(1.0 - C / A), 1e-300), 1.0 / DOMAIN_ASPHERICITY,
-                      "the body is not too close to a sphere"),
-            Condition("min(theta0, pi - theta0)", th0, DOMAIN_THETA0, "the start is not too close to a flat spin"),
-            Condition("Omega / chi", 1.0 / max(chi, 1e-300), 1.0 / DOMAIN_CHI[0], "the mass's damper is not too light"),
-            Condition("chi / Omega", chi, DOMAIN_CHI[1], "the mass's damper is not too heavy")]
+                      "the body is clearly flattened or elongated (C differs from A)"),
+            Condition("min(theta0, pi - theta0)", th0, DOMAIN_THETA0, "the start is well away from a flat spin"),
+            Condition("Omega / chi", 1.0 / max(chi, 1e-300), 1.0 / DOMAIN_CHI[0],
+                      "the mass's damper is strong enough (chi at least Omega / 5)"),
+            Condition("chi / Omega", chi, DOMAIN_CHI[1], "the mass's damper is soft enough (chi at most 3 Omega)")]
+
+
+def auto_conditions(sc: Scenario) -> list[Condition]:
+    """What auto needs before it trusts a cheaper model, held or not: the averaged conditions the error estimate
+    does not cover (validity.STRUCTURAL, and no quadratic friction), then the estimate's calibrated domain. The
+    one list the explorer shows (``physics.validity_conditions``) and ``choose`` judges by."""
+    out = structural_conditions(sc)
+    return out + domain(sc) if sc.mass is not None else out
 
 
 def slow_path(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -172,8 +181,7 @@ def choose(sc: Scenario) -> tuple[str, str]:
     """``auto``'s pick for a moving-mass scenario: the cheapest model whose error estimate meets ``run.accuracy``
     (the default accuracy when unset), among those the structural conditions (validity.py) and the estimate's
     calibrated domain leave."""
-    outside = [c for c in domain(sc) if not c.holds] if sc.mass is not None else []
-    return cheapest_within(sc, structural_failures(sc) + outside)
+    return cheapest_within(sc, [c for c in auto_conditions(sc) if not c.holds])
 
 
 METHOD = ("the full model's own start against theta0, carried along the cheaper model's theta(t) with a measured "

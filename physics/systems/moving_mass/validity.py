@@ -64,11 +64,16 @@ def closed_form_available(sc: Scenario) -> tuple[bool, str]:
 STRUCTURAL = ("|w0|/chi", "Re", "lambda", "b /", "|A - B|")
 
 
-def structural_failures(sc: Scenario) -> list[Condition]:
-    """The failed averaged conditions that rule a cheaper model out whatever its error estimate says, and a
-    quadratic friction (the estimate is not calibrated for it)."""
-    failed = [c for c in averaged_conditions(sc) if not c.holds and c.name.startswith(STRUCTURAL)]
+def structural_conditions(sc: Scenario) -> list[Condition]:
+    """The averaged conditions that rule a cheaper model out whatever its error estimate says, held or not, and
+    for a mass with quadratic friction, that there is none (the estimate is not calibrated for it)."""
+    out = [c for c in averaged_conditions(sc) if c.name.startswith(STRUCTURAL)]
     if sc.mass is not None and sc.mass.lam_q > 0:
-        failed.append(Condition("lam_q (quadratic friction: no calibrated error estimate)", sc.mass.lam_q, 0.0,
-                                "the mass has no quadratic friction (no error estimate covers it)"))
-    return failed
+        out.append(Condition("lam_q (quadratic friction: no calibrated error estimate)", sc.mass.lam_q, 0.0,
+                             "the mass has no quadratic friction (no error estimate covers it)"))
+    return out
+
+
+def structural_failures(sc: Scenario) -> list[Condition]:
+    """The structural conditions that fail."""
+    return [c for c in structural_conditions(sc) if not c.holds]

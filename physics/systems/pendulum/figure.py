@@ -66,7 +66,7 @@ def plane_figure(sc, state: dict, view) -> tuple:
     return _bobs(arms, f"{what} ({n}) on {'their arms' if n > 1 else 'its arm'}")
 
 
-TUNE = Action("tune", "Tune to resonance", "button", "Model",
+TUNE = Action("tune", "Tune to resonance", "button", FOLDER,  # under the spring it sets (docs/guide.md)
               hint="spherical pendulum: k = resonant (docs/models.md B.5)",
               apply=lambda sc: {"pendulum.k": "resonant"}, shown=lambda sc: sc.pendulum is not None)
 PIVOT = Action("pivot", "pivot", "choice", FOLDER, key="pendulum.pivot", options=tuple(PIVOTS),
