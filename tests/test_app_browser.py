@@ -154,6 +154,19 @@ def choose(page, label: str, option: str) -> None:
     page.get_by_role("option", name=option, exact=True).click()
 
 
+def choose_until(page, label: str, option: str, done, what: str, tries: int = 3) -> None:
+    """Choose ``option`` until ``done()`` holds: a dropdown whose options the server is resending (after the
+    previous change) can swallow a click, so the choice is made again, never assumed."""
+    for _ in range(tries):
+        choose(page, label, option)
+        for _ in range(40):
+            if done():
+                return
+            page.wait_for_timeout(250)
+        page.keyboard.press("Escape")
+    pytest.fail(f"timed out waiting for {what}")
+
+
 def test_page_loads_connects_and_shows_the_canvas(page):
     page.wait_for_selector("canvas")
     wait_until(page, lambda: read(page, "fidelity").startswith("full"), "the session's first readouts")

@@ -15,6 +15,7 @@ from test_app_browser import (
     UI_TIMEOUT,
     browser,  # noqa: F401 (a fixture)
     choose,
+    choose_until,
     control_id,
     number_box,
     read,
@@ -138,8 +139,7 @@ def test_r_resets_to_zero_and_the_right_arrow_steps(page):
 
 
 def test_choosing_the_current_preset_again_reloads_it(page):
-    choose(page, "Preset", DETUNED)
-    wait_until(page, lambda: DETUNED in readouts(page), "the detuned preset")
+    choose_until(page, "Preset", DETUNED, lambda: DETUNED in readouts(page), "the detuned preset")
     open_folder(page, "Pendulum damper", "spring k (N m/rad)")
     k_box = number_box(page, "spring k (N m/rad)")
     wait_until(page, lambda: float(k_box.input_value()) == pytest.approx(DETUNED_K, rel=1e-3), "the preset's k")
@@ -147,31 +147,31 @@ def test_choosing_the_current_preset_again_reloads_it(page):
     wait_until(page, lambda: float(k_box.input_value()) != pytest.approx(DETUNED_K, rel=1e-3), "k tuned")
     preset_box = page.locator(f'[id="{control_id(page, "Preset")}"]')
     wait_until(page, lambda: preset_box.input_value() == DETUNED + " (edited)", "the preset marked edited")
-    choose(page, "Preset", DETUNED)  # the same preset again
-    wait_until(page, lambda: float(k_box.input_value()) == pytest.approx(DETUNED_K, rel=1e-3), "k reloaded")
+    choose_until(page, "Preset", DETUNED,  # the same preset again
+                 lambda: float(k_box.input_value()) == pytest.approx(DETUNED_K, rel=1e-3), "k reloaded")
     wait_until(page, lambda: preset_box.input_value() == DETUNED, "the plain preset name again")
 
 
 def test_a_preset_that_names_an_overlay_turns_it_on(page):
     page.get_by_role("button", name="Play", exact=True).click()  # a paused new run has one row: no chart yet
-    choose(page, "Preset", FIGURE_WITH_OVERLAY)
     overlay_box = page.locator(f'[id="{control_id(page, "Overlay prediction")}"]')
-    wait_until(page, lambda: overlay_box.input_value() == "averaged", "the overlay the preset names")
+    choose_until(page, "Preset", FIGURE_WITH_OVERLAY, lambda: overlay_box.input_value() == "averaged",
+                 "the overlay the preset names")
     chart = page.get_by_text(re.compile(r"^theta and the averaged model's prediction"))
     wait_until(page, lambda: chart.count() > 0 and chart.first.is_visible(), "the prediction's chart")
 
 
 def test_choosing_a_system_keeps_the_body(page):
     wait_until(page, lambda: read(page, "fidelity"), "the session's first readouts")  # the panel is the session's
-    choose(page, "Preset", "Explorer 1's flat spin")
-    wait_until(page, lambda: "Explorer 1's flat spin" in readouts(page), "the preset")
+    choose_until(page, "Preset", "Explorer 1's flat spin", lambda: "Explorer 1's flat spin" in readouts(page),
+                 "the preset")
     open_folder(page, "Body inertia", "A (kg m^2)")
     set_slider(page, "A (kg m^2)", 1.2)  # a body no preset has (A <= B + C = 1.5)
     a_box, c_box = number_box(page, "A (kg m^2)"), number_box(page, "C (kg m^2)")
     wait_until(page, lambda: float(a_box.input_value()) == pytest.approx(1.2), "A edited")
     c_before = float(c_box.input_value())
-    choose(page, "System", "spherical pendulum")
-    wait_until(page, lambda: "body kept" in readouts(page), "the spherical pendulum with the body kept")
+    choose_until(page, "System", "spherical pendulum", lambda: "body kept" in readouts(page),
+                 "the spherical pendulum with the body kept")
     assert float(a_box.input_value()) == pytest.approx(1.2)
     assert float(c_box.input_value()) == pytest.approx(c_before)
     assert read(page, "fidelity")  # the run goes on with the new system
@@ -180,8 +180,7 @@ def test_choosing_a_system_keeps_the_body(page):
 def test_auto_s_accuracy_is_chosen_on_the_page_and_the_badge_and_readout_follow(page):
     """issue 15: auto with a looser accuracy runs the closed form where its estimate meets it (the badge
     states the estimate); the control shows only while auto is the fidelity."""
-    choose(page, "Preset", OBLATE)
-    wait_until(page, lambda: OBLATE in readouts(page), "the oblate preset (fidelity auto)")
+    choose_until(page, "Preset", OBLATE, lambda: OBLATE in readouts(page), "the oblate preset (fidelity auto)")
     wait_until(page, lambda: "auto → full" in body_text(page), "auto's badge at the default accuracy")
     assert f"accuracy asked: {physics.DEFAULT_ACCURACY:g} rad (the default)" in body_text(page)
     choose(page, "auto's accuracy", "0.1 rad")

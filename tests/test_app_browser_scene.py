@@ -19,7 +19,7 @@ from test_app_browser import (
     FLAGS,
     UI_TIMEOUT,
     browser,  # noqa: F401 (a fixture)
-    choose,
+    choose_until,
     control_id,
     number_box,
     read,
@@ -102,19 +102,6 @@ def canvas_png(page) -> np.ndarray:
     box = page.locator("canvas").first.bounding_box()
     shot = page.screenshot(clip={"x": box["x"], "y": box["y"], "width": box["width"], "height": box["height"]})
     return np.asarray(Image.open(io.BytesIO(shot)).convert("RGB"), dtype=int)
-
-
-def choose_until(page, label: str, option: str, done, what: str, tries: int = 3) -> None:
-    """Choose ``option`` until ``done()`` holds: a dropdown whose options the server is resending (after the
-    previous change) can swallow a click, so the choice is made again, never assumed."""
-    for _ in range(tries):
-        choose(page, label, option)
-        for _ in range(40):
-            if done():
-                return
-            page.wait_for_timeout(250)
-        page.keyboard.press("Escape")
-    pytest.fail(f"timed out waiting for {what}")
 
 
 def test_the_legend_names_the_default_scenes_parts_and_the_mass_factor(page):
