@@ -264,7 +264,9 @@ def test_uploading_a_scenario_file_loads_it_and_a_bad_one_is_refused(page, tmp_p
     bad = tmp_path / "bad.toml"
     bad.write_text("[body]\nA = -1.0\nC = 1.0\nM = 1.0\n")
     page.locator("input[type=file]").first.set_input_files(str(bad))
-    wait_until(page, lambda: page.get_by_text("Rejected:").count() > 0, "the rejection message")
+    # said under the Load button (tests/test_app_browser_typed.py checks where), not at the top of the panel
+    wait_until(page, lambda: page.get_by_text(re.compile(r"Not loaded: body\.A = -1")).count() > 0,
+               "the refusal naming body.A")
     assert "upload oblate_settling.toml" in readouts(page)  # the last good scene stays
 
 
