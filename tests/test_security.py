@@ -48,6 +48,8 @@ class _FakeServer:
 
 
 class _FakeApp:
+    classroom = None  # not started with --class
+
     def __init__(self, *args, **kwargs):
         pass
 
