@@ -209,8 +209,9 @@ def test_an_upload_announcing_a_negative_size_or_count_is_refused(app):
         uuid = session.panel.upload._impl.uuid
         await ws.send(_msg(type="FileTransferStartUpload", source_component_uuid=uuid, transfer_uuid="neg",
                            filename="x.toml", mime_type="application/toml", part_count=-1, size_bytes=10))
-        await asyncio.to_thread(_wait, lambda: "must be 0 or more" in session.engine.error)
-        seen.update(error=session.engine.error, held=dict(session.client.gui._current_file_upload_states))
+        # an upload's refusal is said beside the Load button (engine.upload_note), not at the top of the panel
+        await asyncio.to_thread(_wait, lambda: "must be 0 or more" in (session.engine.upload_note or ("", ""))[1])
+        seen.update(error=session.engine.upload_note[1], held=dict(session.client.gui._current_file_upload_states))
 
     _run(app, script)
     assert "-1 parts" in seen["error"] and "neg" not in seen["held"]
