@@ -85,7 +85,9 @@ def at_t0(page) -> str:
     page.wait_for_timeout(300)
     click(page, "Pause")
     click(page, "Reset")
-    wait_until(page, lambda: read(page, "t") == "0 s", "t = 0 after Reset")
+    # the end state is worked out off the tab's loop (app.engine.output): its readout says so until it is done
+    wait_until(page, lambda: read(page, "t") == "0 s" and "working it out" not in readouts(page),
+               "t = 0 after Reset, with the end state worked out")
     return "\n".join(line for line in readouts(page).splitlines() if not line.startswith("preset:"))
 
 
