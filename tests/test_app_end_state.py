@@ -108,6 +108,18 @@ def test_the_end_state_is_worked_out_off_the_loop_and_then_shown():
     assert eng.readouts()["energy still to lose"].endswith(" J")
 
 
+def test_a_paused_run_is_told_to_redraw_its_readouts_when_the_end_state_is_ready():
+    """The panel rewrites the readouts only when plots_changed is set; paused, nothing else sets it."""
+    eng = Engine(physics.Scenario.from_dict(TEXTBOOK))
+    eng.tick(FRAME_S)
+    eng.plots_changed = False  # the panel has drawn what there was
+    eng._end = None  # as after a Reset of the paused run: nothing worked out for this scene yet
+    assert eng.readouts()["energy still to lose"] == "working it out..."
+    thread = next(t for t in threading.enumerate() if t.name == "end state")
+    thread.join(timeout=60)
+    assert eng.plots_changed and eng.readouts()["energy still to lose"].endswith(" J")
+
+
 def test_braking_hides_them_and_says_none():
     eng = engine_after({**TEXTBOOK, "control": {"b": 0.5}}, frames=5)
     assert eng.readouts()["energy still to lose"].startswith("none")

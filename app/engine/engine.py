@@ -540,6 +540,9 @@ class Engine:
     def _end_work(self, sc: physics.Scenario, G: float, K_body) -> None:
         try:
             self._end = (sc, G, _end_state(sc, K_body))
+            # the panel redraws readouts and plots only when told: a paused run would say "working it out..."
+            # until the next edit
+            self.plots_changed = True
         finally:
             self._end_busy = False  # the next call starts another if the scene or |K| has changed since
 
