@@ -350,6 +350,24 @@ def test_a_bad_link_says_so_and_keeps_the_scene():
     assert "version qr9" in text
 
 
+class SilentStorage(Storage):
+    """A browser that stays connected and never answers (viser's get_item raises TimeoutError)."""
+
+    def get_item(self, key, timeout=None):
+        self.timeouts = getattr(self, "timeouts", []) + [timeout]
+        raise TimeoutError(key)
+
+
+def test_a_browser_that_does_not_answer_is_waited_for_and_then_said():
+    eng, client, panel = panel_for(restore=False)
+    client.local_storage = SilentStorage()
+    panel.ready.clear()
+    panel._read_storage()
+    # a tab still building its scene in software WebGL answered after 10 s in CI: the wait is generous
+    assert client.local_storage.timeouts == [share_panel.READ_TIMEOUT] and share_panel.READ_TIMEOUT >= 30.0
+    assert "did not answer" in panel.status() and panel.ready.is_set()
+
+
 def test_the_last_scene_is_written_when_it_changes_at_most_once_per_interval(monkeypatch):
     now = [100.0]
     monkeypatch.setattr(share_panel.time, "monotonic", lambda: now[0])

@@ -29,7 +29,8 @@ from .link import LINK_KEY, PAGE_KEY
 
 SAVE_KEY = "quasirigid.last"  # the browser's last scene, as a share code
 SAVE_INTERVAL = 1.0  # s: the storage is written at most this often (a slider dragged changes the scene per frame)
-READ_TIMEOUT = 10.0  # s to wait for the browser's storage when the tab connects
+READ_TIMEOUT = 60.0  # s to wait for the browser's storage when the tab connects (a tab still building its 3-D
+# scene in software WebGL on a busy machine answers after 10 s and more; a closed tab ends the wait at once)
 NOTE_SECONDS = 30.0  # how long the status line says what happened to the tab's scene
 SHARED = "shared scene"  # a loaded code's name, when it is no preset as shipped
 RESTORED = "your last scene"  # a restored scene's name, when it is no preset as shipped
@@ -148,7 +149,11 @@ class SharePanel:
             last = storage.get_item(SAVE_KEY, timeout=READ_TIMEOUT)
             if linked is not None:
                 storage.remove_item(LINK_KEY)  # offered once; the address still carries it for a reload
-        except (RuntimeError, TimeoutError):  # storage blocked by the browser, or the tab closed: none of this
+        except TimeoutError:  # connected but silent for a minute: a link it carried would be lost unsaid
+            self.say("this browser did not answer for its stored scenes; a link's scene was not read")
+            self.ready.set()
+            return
+        except RuntimeError:  # storage blocked by the browser, or the tab closed: none of this
             self.ready.set()
             return
         try:
