@@ -34,6 +34,7 @@ from physics.systems.pendulum.restart import carry_to_pendulum_averaged
 
 # Where the model may run and its error estimate: validity.py and accuracy.py (issue 15).
 QUAT_STEP = 0.05  # rad of the slow exponents' phase per quadrature step of the precession phase psi
+DETUNED = 10.0  # |sigma| / Omega beyond which a step-budget refusal names the spring as the cause
 MAX_SUBSTEPS = 2e6  # quadrature steps per run (about 400 MB of work arrays), as simulate bounds its own steps
 
 
@@ -139,20 +140,21 @@ def _precession_rate(co: AveragedCoefficients, u0: np.ndarray, s: np.ndarray) ->
     return np.where(h2 > 0, w_along + H3 / Hn * turn, co.p.W * Hn / H3)
 
 
-def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray, U: np.ndarray) -> np.ndarray:
+def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray, U: np.ndarray,
+              spring: str = "") -> np.ndarray:
     """The attitude at times t (n,) increasing from 0 (the identity at t = 0), from K, which does not turn:
     Q_K Rz(psi) Rx(theta) Rz(phi), with (theta, phi) the body-frame direction of H (``U`` the solution at t) and
     psi the quadrature of ``_precession_rate`` by two-point Gauss-Legendre on sub-steps of QUAT_STEP rad of the
     slow exponents. R H is then fixed in space to rounding, which the attitude integrated with the averaged
     omega (until issue 23) was not: the averaged torques turn H in the body, and omega does not turn the body
-    back."""
+    back. ``spring`` names the spring's keys and values, for a refusal whose cause is the detuning."""
     rate = float(np.max(np.abs(co.exponents()))) + abs(co.sigma) + 1e-300
     dt = np.diff(t, prepend=0.0)
     n_float = np.maximum(np.ceil(dt * rate / QUAT_STEP), 1)
     if not float(np.sum(n_float)) <= MAX_SUBSTEPS:  # each sub-step holds a few arrays' rows: bound the memory
         raise ScenarioError("run.t_end", float(t[-1]), f"needs {float(np.sum(n_float)):.3g} attitude steps of "
-                            f"{QUAT_STEP} rad in the averaged model, more than its budget of {MAX_SUBSTEPS:.0f}: "
-                            "shorten t_end")
+                            f"{QUAT_STEP} rad in the averaged model, more than its budget of {MAX_SUBSTEPS:.0f}"
+                            + _detuning_cause(co, spring))
     n_sub = n_float.astype(np.int64)
     n_sub[dt == 0] = 0
     starts = np.repeat(t - dt, n_sub)
@@ -170,6 +172,16 @@ def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray,
     tilt = _tilt(psi, theta, phi)
     q = qmul(qconj(_initial_tilt(co, u0)), tilt)  # the identity at t = 0
     return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+def _detuning_cause(co: AveragedCoefficients, spring: str) -> str:
+    """Why the slow phase turns fast, when the spring is far off resonance (|sigma| more than DETUNED x Omega):
+    then the spring's keys set the step count as much as t_end does, and the refusal names them."""
+    if not spring or not abs(co.sigma) > DETUNED * abs(co.Omega):
+        return ": shorten t_end"
+    return (f"; the pendulum is far off resonance: {spring} give omega_0 = {co.p.omega0:.3g} rad/s against the "
+            f"nutation's Omega = {co.Omega:.3g} rad/s (detuning {abs(co.sigma):.3g} rad/s): bring the spring nearer "
+            "resonance or shorten t_end")
 
 
 def _tilt(psi: np.ndarray, theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -219,7 +231,13 @@ def solve_averaged(sc: Scenario, t: np.ndarray) -> Trajectory:
                       "phase by quadrature", "nfev": 0, "steps": 0,
             "stop_reason": "reached t_end", "t_stop": float(t[-1])}
     return Trajectory(t=t, theta=theta, K=np.full(len(t), G0), E=E0 - work, omega=omega,
-                      quat=_attitude(co, u0, W, t, U), internal=internal, info=info)
+                      quat=_attitude(co, u0, W, t, U, _spring_words(sc)), internal=internal, info=info)
+
+
+def _spring_words(sc: Scenario) -> str:
+    k = sc.pendulum.k
+    k_words = f'"{k}"' if isinstance(k, str) else f"{k:.6g} N m/rad"  # a tuning's name, or the stiffness
+    return f"pendulum.k = {k_words} and pendulum.m = {sc.pendulum.m:.6g} kg"
 
 
 def initial_momentum(sc: Scenario, G: float) -> np.ndarray:
