@@ -105,6 +105,27 @@ def test_the_four_buttons_and_the_keys_are_visible_without_scrolling(browser, ur
         pg.close()
 
 
+def test_a_browser_asking_for_reduced_motion_starts_paused_and_says_so(browser, url, tmp_path):  # noqa: F811
+    """Issue 25 point 4 (WCAG 2.2.2): the operating system's reduced-motion setting, as chromium reports it."""
+    pg = browser.new_page(viewport={"width": 1024, "height": 768}, reduced_motion="reduce")
+    pg.set_default_timeout(UI_TIMEOUT)
+    try:
+        pg.goto(url)
+        pg.wait_for_selector("canvas")
+        wait_until(pg, lambda: "asks for reduced motion" in status(pg), "the reduced-motion note")
+        assert "paused" in status(pg) and read(pg, "t") == "0 s"
+        pg.wait_for_timeout(1000)
+        assert read(pg, "t") == "0 s"  # it stays still
+        pause = pg.get_by_role("button", name="Play", exact=True).bounding_box()
+        assert pause["y"] + pause["height"] <= 768  # Play is in sight, beside the note
+        pg.screenshot(path=str(tmp_path / "reduced_motion_1024x768.png"))
+        pg.get_by_role("button", name="Play", exact=True).click()
+        wait_until(pg, lambda: "playing" in status(pg) and "reduced motion" not in status(pg), "Play to start it")
+        wait_until(pg, lambda: read(pg, "t") != "0 s", "t to move")
+    finally:
+        pg.close()
+
+
 def test_space_pauses_and_plays(page):
     focus_the_scene(page)
     page.keyboard.press("Space")

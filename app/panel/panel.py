@@ -24,6 +24,7 @@ from .compare_panel import ComparePanel
 from .compare_plots import ComparePlots
 from .control_notes import NotePlace
 from .energy_plot import EnergyChart
+from .motion import ReducedMotion
 from .playbar import Playbar
 from .typed_numbers import TypedNumbers
 
@@ -34,11 +35,14 @@ ALL = "all"  # an item action's first option: the sliders edit every item
 class Panel:
     """The GUI of one browser tab."""
 
-    def __init__(self, client: viser.ClientHandle, engine: Engine, restore: bool = True):
+    def __init__(self, client: viser.ClientHandle, engine: Engine, restore: bool = True, still: bool = True):
         self.client = client
         self.engine = engine
         self.restore = restore  # whether the browser's last scene may replace the one the tab starts with
         self._build_gui()
+        # a tab that runs its own scene from the start (not one carried on from the class's) honours the browser's
+        # reduced-motion setting
+        self.motion = ReducedMotion(client, engine, read=still)
 
     def __getattr__(self, name: str):
         """A system's action's widget by the action's name (``panel.pivot``): the names come from physics."""
@@ -355,7 +359,8 @@ class Panel:
         prep = f" · preparing the fast integrator: {build.elapsed:.0f} s" if build.state == "pending" else ""
         self.share.tick()  # the browser keeps the last scene (throttled)
         set_if_changed(self.status_md, "content",
-                       f"**Quasirigid explorer** · {state} · {warp}{prep}{self.share.status()}")
+                       f"**Quasirigid explorer** · {state} · {warp}{prep}{self.motion.status()}"
+                       f"{self.share.status()}")
 
 
 def _build_sliders(gui, values: dict[str, float]) -> tuple[dict, dict]:

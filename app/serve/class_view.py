@@ -235,7 +235,7 @@ class LecturerView:
         self.client = client
         self.view = EngineView(engine, shared)
         self.drawing = drawing
-        self.panel = Panel(client, self.view, restore=False)
+        self.panel = Panel(client, self.view, restore=False, still=False)  # a lecturer's reload never resets the class
         self.legend = LegendView(client.gui)
         cap_streamed_uploads(client.gui, self._refuse)
         screen_gui_updates(client.gui, self._refuse)

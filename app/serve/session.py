@@ -47,7 +47,8 @@ class Session:
         self.frame_ms: deque = deque(maxlen=600)  # (tick, publish) wall ms of recent frames
         self.pace = Pace()  # how often to publish, from what a frame costs and how many tabs there are
         # a server started on a scenario or mesh of its own shows that, not the browser's last scene
-        self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None and engine is None)
+        self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None and engine is None,
+                           still=engine is None)
         cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
         screen_gui_updates(client.gui, self._refuse_value)  # a value that does not fit its control never reaches viser
         self.drawing = Drawing(client, self.engine)

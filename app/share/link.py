@@ -1,4 +1,5 @@
-"""How a tab's address reaches the server: a link ``http://HOST:PORT/?scene=CODE`` and the page's own URL.
+"""How a tab's address reaches the server: a link ``http://HOST:PORT/?scene=CODE``, the page's own URL, and
+whether the browser asks for reduced motion (app.panel.motion).
 
 viser passes no URL parameter to Python (its websocket handshake asks for ``/`` whatever the page's query), but
 it lets the server read the browser's storage (``client.local_storage``, viser 1.1). So the page viser serves
@@ -21,6 +22,7 @@ import threading
 STORAGE_PREFIX = "viser-user:"  # viser 1.1's prefix for the keys client.local_storage reads (read in a browser)
 PAGE_KEY = "quasirigid.page"  # the page's own address (origin and path), for the link the Share button shows
 LINK_KEY = "quasirigid.link"  # the scene parameter of the address the tab was opened with
+MOTION_KEY = "quasirigid.motion"  # "reduce" when the browser asks for reduced motion (app.panel.motion)
 CLASS_KEY = "quasirigid.class"  # class mode: the class parameter of the address (the lecturer's key), or none
 MAX_CLASS_CHARS = 200  # what the script copies of a class parameter (a key is 22 characters)
 MAX_LINK_CHARS = 100_000  # what the script copies of a scene parameter (app.share.code.MAX_CODE_CHARS)
@@ -31,6 +33,8 @@ SCRIPT = f"""<script>/* Quasirigid (app/share/link.py): the page's address and i
     var s = window.localStorage, q = new URLSearchParams(window.location.search), code = q.get("scene"),
         klass = q.get("class");
     s.setItem("{STORAGE_PREFIX}{PAGE_KEY}", window.location.origin + window.location.pathname);
+    var still = window.matchMedia && window.matchMedia("(prefers-reduced-motion: reduce)").matches;
+    s.setItem("{STORAGE_PREFIX}{MOTION_KEY}", still ? "reduce" : "no-preference");
     if (code !== null) s.setItem("{STORAGE_PREFIX}{LINK_KEY}", code.slice(0, {MAX_LINK_CHARS}));
     if (klass !== null) s.setItem("{STORAGE_PREFIX}{CLASS_KEY}", klass.slice(0, {MAX_CLASS_CHARS}));
     else s.removeItem("{STORAGE_PREFIX}{CLASS_KEY}");
