@@ -50,11 +50,9 @@ def main(argv: list[str] | None = None) -> int:
     from .serve.guard import configure
 
     configure(args.host, tuple(args.allow_origin))  # same-origin browsers and this host's name only
-    from .panel.typed_numbers import PAGE_SCRIPT as TYPED_SCRIPT
-    from .share.link import install as share_links
+    from .serve.page_scripts import install as install_page_scripts
 
-    share_links(TYPED_SCRIPT)  # the page hands its address and a link's scene to the tab (app.share.link);
-    # a slider's box sends its text as typed (app.panel.typed_numbers)
+    install_page_scripts()  # app/serve/page_scripts.py says what the page gets
     server = viser.ViserServer(host=args.host, port=args.port, label="Quasirigid")
     shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
     url = f"http://{shown}:{server.get_port()}"

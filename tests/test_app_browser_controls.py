@@ -126,6 +126,53 @@ def test_a_browser_asking_for_reduced_motion_starts_paused_and_says_so(browser, 
         pg.close()
 
 
+FOCUSED_JS = "() => { const e = document.activeElement; return e ? (e.innerText || e.value || '').trim() : ''; }"
+TITLES_JS = """() => Array.from(document.querySelectorAll('[data-qr-key]')).map(
+    t => [t.innerText.trim(), t.tabIndex, t.getAttribute('role'), t.getAttribute('aria-expanded')])"""
+
+
+def tab_to(page, text: str, limit: int = 120) -> int:
+    """Press Tab until the focused element's text is ``text``; the presses it took."""
+    for n in range(1, limit + 1):
+        page.keyboard.press("Tab")
+        if page.evaluate(FOCUSED_JS) == text:
+            return n
+    pytest.fail(f"{text!r} not reached in {limit} presses of Tab")
+
+
+def test_a_closed_folder_opens_from_the_keyboard_and_its_controls_work(browser, url, tmp_path):  # noqa: F811
+    """Issue 25 point 4: folder titles are in the Tab order; Enter opens one, Space closes it without pausing
+    the run, and a button inside is pressed with Enter: the File folder's scenario download, keyboard only."""
+    pg = browser.new_page(viewport={"width": 1400, "height": 900})
+    pg.set_default_timeout(UI_TIMEOUT)
+    try:
+        pg.goto(url)
+        pg.wait_for_selector("canvas")
+        wait_until(pg, lambda: read(pg, "fidelity").startswith("full"), "the first readouts")
+        wait_until(pg, lambda: len(pg.evaluate(TITLES_JS)) >= 6, "the folder titles made keyboard buttons")
+        titles = {t[0]: t[1:] for t in pg.evaluate(TITLES_JS)}
+        for name in ("Details", "Plots", "Playback", "Model", "Share", "File"):
+            assert titles[name][:2] == [0, "button"], (name, titles)
+        assert titles["File"][2] == "false" and titles["Plots"][2] == "true"  # closed and open, as shown
+        pg.locator("[data-qr-key]").filter(has_text=re.compile(r"^Compare$")).focus()  # the title above File's
+        assert tab_to(pg, "File", limit=5) == 1  # the next stop of Tab
+        pg.keyboard.press("Enter")
+        download = pg.get_by_role("button", name="Download scenario (TOML)", exact=True)
+        wait_until(pg, lambda: download.count() and download.is_visible(), "the File folder open")
+        tab_to(pg, "Download scenario (TOML)", limit=10)
+        with pg.expect_download() as got:
+            pg.keyboard.press("Enter")
+        assert "[run]" in open(got.value.path()).read()
+        pg.screenshot(path=str(tmp_path / "keyboard_file_open.png"))
+        title = pg.locator("[data-qr-key]").filter(has_text=re.compile(r"^File$"))
+        title.focus()
+        pg.keyboard.press(" ")
+        wait_until(pg, lambda: not download.count(), "Space to close the folder")
+        assert "playing" in status(pg)  # Space on a folder's title opens or closes it, and does not pause
+    finally:
+        pg.close()
+
+
 def test_space_pauses_and_plays(page):
     focus_the_scene(page)
     page.keyboard.press("Space")

@@ -37,11 +37,9 @@ class App:
             from .guard import configure
 
             configure(host)  # before the server starts: same-origin browsers and this host's name only
-            from ..panel.typed_numbers import PAGE_SCRIPT as TYPED_SCRIPT
-            from ..share.link import install as share_links
+            from .page_scripts import install as install_page_scripts
 
-            share_links(TYPED_SCRIPT)  # the page hands its address and a link's scene to the tab (app.share.link);
-            # a slider's box sends its text as typed (app.panel.typed_numbers)
+            install_page_scripts()
         self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
         refuse_share_tunnel(self.server)
         self.sessions: dict[int, Session] = {}

@@ -185,5 +185,5 @@ def install(*scripts: bytes) -> None:
         _installed = True
 
 
-__all__ = ["CLASS_KEY", "LINK_KEY", "MAX_REQUEST_LINE", "PAGE_KEY", "SCRIPT", "STORAGE_PREFIX", "install",
+__all__ = ["CLASS_KEY", "LINK_KEY", "MAX_REQUEST_LINE", "MOTION_KEY", "PAGE_KEY", "SCRIPT", "STORAGE_PREFIX", "install",
            "link_too_long", "with_script"]
