@@ -38,8 +38,8 @@ if not os.path.exists(CHROMIUM):
 
 @pytest.fixture(scope="module")
 def url():
-    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
+    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0", "--fps", str(FPS)], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     lines: queue.Queue = queue.Queue()
     threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
     deadline = time.monotonic() + START_TIMEOUT
@@ -64,10 +64,53 @@ def url():
         proc.kill()
 
 
+# Headless chromium draws the 3-D view in software (SwiftShader) at 60 frames per second, which took about a core
+# of CI's two: the tests' pages draw at most 10 (the server still publishes every frame, and a screenshot shows the
+# latest). Measured on tests/test_app_browser_typed.py, quiet machine: 227 s unthrottled, 155 s at 10 per second.
+FRAME_MS = 100
+# ... and the tests' servers publish each tab 15 frames per second (python -m app --fps), not 60: the page decodes
+# and draws a quarter as much (the same file: 167 s with the drawing throttled alone, 95 s with both)
+FPS = 15
+THROTTLE_JS = """(() => {
+    const ms = FRAME_MS; let next = 0;
+    window.requestAnimationFrame = cb => {
+        const now = performance.now(), wait = Math.max(0, next - now);
+        next = now + wait + ms;
+        return setTimeout(() => cb(performance.now()), wait);
+    };
+    window.cancelAnimationFrame = id => clearTimeout(id);
+})();""".replace("FRAME_MS", str(FRAME_MS))
+
+
+class Throttled:
+    """chromium whose every page draws at most 1000 / FRAME_MS frames per second (THROTTLE_JS runs first)."""
+
+    def __init__(self, browser):
+        self._browser = browser
+
+    def new_page(self, *args, **kwargs):
+        page = self._browser.new_page(*args, **kwargs)
+        page.add_init_script(THROTTLE_JS)
+        return page
+
+    def new_context(self, *args, **kwargs):
+        context = self._browser.new_context(*args, **kwargs)
+        context.add_init_script(THROTTLE_JS)
+        return context
+
+    def __getattr__(self, name):
+        return getattr(self._browser, name)
+
+
+def launch(p) -> Throttled:
+    """Debian's chromium, headless, from a started ``sync_playwright()``."""
+    return Throttled(p.chromium.launch(executable_path=CHROMIUM, args=FLAGS))
+
+
 @pytest.fixture(scope="module")
 def browser():
     with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        b = launch(p)
         yield b
         b.close()
 

@@ -16,13 +16,13 @@ import time
 
 import pytest
 from test_app_browser import (
-    CHROMIUM,
-    FLAGS,
+    FPS,
     ROOT,
     START_TIMEOUT,
     UI_TIMEOUT,
     choose,
     click,
+    launch,
     read,
     readouts,
     set_slider,
@@ -41,7 +41,8 @@ SLIDERS_JS = """() => Array.from(document.querySelectorAll('[role=slider]')).map
 
 @pytest.fixture(scope="module")
 def server():
-    proc = subprocess.Popen([sys.executable, "-u", "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
+    proc = subprocess.Popen([sys.executable, "-u", "-m", "app", "--port", "0", "--fps", str(FPS)], cwd=ROOT,
+                            stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     lines: queue.Queue = queue.Queue()
     log: list[str] = []
@@ -71,7 +72,7 @@ def server():
 @pytest.fixture(scope="module")
 def page(server):
     with sync_api.sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        browser = launch(p)
         pg = browser.new_page(viewport={"width": 900, "height": 700})  # software WebGL: fewer pixels, quicker
         pg.set_default_timeout(UI_TIMEOUT)
         pg.sent = [0]  # websocket frames the page sent: the storm's changes must reach the server

@@ -14,7 +14,7 @@ import threading
 import time
 
 import pytest
-from test_app_browser import CHROMIUM, FLAGS, ROOT, START_TIMEOUT, read, sync_api
+from test_app_browser import ROOT, START_TIMEOUT, launch, read, sync_api
 
 pytestmark = pytest.mark.browser
 PREPARING = "preparing the fast integrator"
@@ -50,7 +50,7 @@ def test_the_scene_runs_while_the_integrator_is_built_and_after(tmp_path):
     proc, url = _start(dict(os.environ, QUASIRIGID_BUILD_GATE=str(gate)))
     try:
         with sync_api.sync_playwright() as p:
-            browser = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+            browser = launch(p)
             page = browser.new_page(viewport={"width": 1400, "height": 900})
             page.set_default_timeout(60_000)
             page.goto(url)
