@@ -11,9 +11,6 @@ import numpy as np
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
-MIN_FPS, MAX_FPS = 1.0, 60.0  # --fps: app.serve.pace.MIN_HZ does not bind a cap the user asks for; 60 is FRAME_HZ
-
-
 def parse(argv: list[str] | None = None) -> argparse.Namespace:
     ap = argparse.ArgumentParser(prog="python -m app", description="Serve the Quasirigid explorer in the browser.",
                                  epilog="python -m app record [SCENARIO.toml] --seconds N --out demo.html writes a "
@@ -30,13 +27,7 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
     ap.add_argument("--class", dest="class_mode", action="store_true",
                     help="class mode: one run that the lecturer's tab drives and every student's tab follows; prints "
                     "the lecturer's link (it carries a key: keep it to yourself) and the students' link")
-    ap.add_argument("--fps", type=float, default=None, metavar="N",
-                    help=f"publish each tab at most N frames per second ({MIN_FPS:g} to {MAX_FPS:g}; default "
-                    f"{MAX_FPS:g}): a slow machine, a laptop on battery, or many tabs")
-    args = ap.parse_args(argv)
-    if args.fps is not None and not MIN_FPS <= args.fps <= MAX_FPS:  # NaN fails both
-        ap.error(f"--fps {args.fps:g}: must be from {MIN_FPS:g} to {MAX_FPS:g} frames per second")
-    return args
+    return ap.parse_args(argv)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -104,11 +95,7 @@ def main(argv: list[str] | None = None) -> int:
         server.stop()
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    from .serve import pace
     from .serve.server import App, warm_up
-
-    if args.fps is not None:
-        pace.limit(args.fps)
 
     app = App(scenario=scenario, mesh=mesh, server=server, class_mode=args.class_mode)
     warm_up()

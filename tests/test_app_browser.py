@@ -38,8 +38,8 @@ if not os.path.exists(CHROMIUM):
 
 @pytest.fixture(scope="module")
 def url():
-    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0", "--fps", str(FPS)], cwd=ROOT,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
     lines: queue.Queue = queue.Queue()
     threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
     deadline = time.monotonic() + START_TIMEOUT
@@ -68,9 +68,6 @@ def url():
 # of CI's two: the tests' pages draw at most 10 (the server still publishes every frame, and a screenshot shows the
 # latest). Measured on tests/test_app_browser_typed.py, quiet machine: 227 s unthrottled, 155 s at 10 per second.
 FRAME_MS = 100
-# ... and the tests' servers publish each tab 15 frames per second (python -m app --fps), not 60: the page decodes
-# and draws a quarter as much (the same file: 167 s with the drawing throttled alone, 95 s with both)
-FPS = 15
 THROTTLE_JS = """(() => {
     const ms = FRAME_MS; let next = 0;
     window.requestAnimationFrame = cb => {

@@ -16,7 +16,6 @@ import time
 
 import pytest
 from test_app_browser import (
-    FPS,
     ROOT,
     START_TIMEOUT,
     UI_TIMEOUT,
@@ -41,8 +40,7 @@ SLIDERS_JS = """() => Array.from(document.querySelectorAll('[role=slider]')).map
 
 @pytest.fixture(scope="module")
 def server():
-    proc = subprocess.Popen([sys.executable, "-u", "-m", "app", "--port", "0", "--fps", str(FPS)], cwd=ROOT,
-                            stdout=subprocess.PIPE,
+    proc = subprocess.Popen([sys.executable, "-u", "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     lines: queue.Queue = queue.Queue()
     log: list[str] = []

@@ -17,7 +17,6 @@ import pytest
 from test_app_browser import (
     CHROMIUM,
     FLAGS,
-    FPS,
     UI_TIMEOUT,
     browser,  # noqa: F401 (a fixture)
     choose_until,
@@ -57,18 +56,14 @@ assert CHROMIUM and FLAGS and sync_api  # imported for the fixtures above
 
 @pytest.fixture(scope="module")
 def app():
-    from app.serve import pace
     from app.serve.server import App, warm_up
 
-    cap = pace._cap_hz
-    pace.limit(FPS)  # as the subprocess servers' --fps (tests/test_app_browser.py)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         a = App(port=0)
         warm_up()
     yield a
     a.close()
-    pace.limit(cap)
 
 
 @pytest.fixture(scope="module")

@@ -53,29 +53,3 @@ def test_a_tabs_first_frame_which_draws_the_whole_scene_does_not_set_the_pace():
     for _ in range(3):
         pace.spent(1e-3)
     assert pace.hz(10) == CROWD_HZ
-
-
-def test_a_cap_asked_for_binds_every_tab_even_below_the_crowd_floor(monkeypatch):
-    """python -m app --fps N: a tab is published at most N frames per second, alone or in a crowd, cheap or not."""
-    from app.serve import pace
-
-    monkeypatch.setattr(pace, "_cap_hz", pace._cap_hz)  # the cap is the process's: put back after the test
-    pace.limit(15.0)
-    cheap, dear = _paced(1e-5), _paced(0.05)
-    assert cheap.hz(1) == 15.0 and cheap.hz(3 * CROWD) == 15.0
-    assert dear.hz(2 * CROWD) == max(MIN_HZ, SHARE / (2 * CROWD * 0.05)) < 15.0  # thinned below the cap as before
-    pace.limit(5.0)
-    assert dear.hz(10 * CROWD) == 5.0  # under MIN_HZ: the user's cap wins
-    pace.limit(1000.0)
-    assert cheap.hz(1) == pace.FRAME_HZ  # never more than the loop's own rate
-
-
-@pytest.mark.parametrize("value", ["0", "0.5", "61", "nan", "inf", "-3"])
-def test_python_m_app_refuses_an_fps_outside_its_range_in_one_line(value, capsys):
-    from app.__main__ import parse
-
-    with pytest.raises(SystemExit) as done:
-        parse(["--fps", value])
-    assert done.value.code == 2
-    err = capsys.readouterr().err.strip().splitlines()[-1]
-    assert "--fps" in err and "must be from 1 to 60 frames per second" in err, err

@@ -21,16 +21,6 @@ SMOOTHING = 0.1  # weight of the newest frame in the running mean of a frame's c
 SPIKE = 4.0  # a frame counts at most this many times the mean: one slow frame (a preset loading) is not a trend
 
 
-_cap_hz = FRAME_HZ  # the most frames per second any tab is published (python -m app --fps)
-
-
-def limit(hz: float) -> None:
-    """Publish every tab at most ``hz`` frames per second, from now on (``python -m app --fps``, which checks the
-    range). The loops' own thinning below MIN_HZ does not apply to a cap asked for."""
-    global _cap_hz
-    _cap_hz = min(float(hz), FRAME_HZ)
-
-
 class Pace:
     """A tab loop's frame rate from the running mean of its frames' CPU cost and the number of tabs."""
 
@@ -53,10 +43,10 @@ class Pace:
     def hz(self, tabs: int) -> float:
         """Frames per second for this tab while ``tabs`` tabs share the server."""
         tabs = max(int(tabs), 1)
-        wanted = min(FRAME_HZ if tabs <= CROWD else CROWD_HZ, _cap_hz)
+        wanted = FRAME_HZ if tabs <= CROWD else CROWD_HZ
         if not self.cost_s:
             return wanted
-        return min(wanted, max(MIN_HZ, SHARE / (tabs * self.cost_s)))
+        return max(MIN_HZ, min(wanted, SHARE / (tabs * self.cost_s)))
 
     def crowded(self, tabs: int) -> bool:
         return tabs > CROWD
