@@ -34,7 +34,7 @@ from physics.systems.pendulum.restart import carry_to_pendulum_averaged
 
 # Where the model may run and its error estimate: validity.py and accuracy.py (issue 15).
 QUAT_STEP = 0.05  # rad of the slow exponents' phase per quadrature step of the precession phase psi
-DETUNED = 10.0  # |sigma| / Omega beyond which a step-budget refusal names the spring as the cause
+DETUNED = 10.0  # slow rate / Omega beyond which a step-budget refusal names the pendulum's keys as the cause
 MAX_SUBSTEPS = 2e6  # quadrature steps per run (about 400 MB of work arrays), as simulate bounds its own steps
 
 
@@ -154,7 +154,7 @@ def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray,
     if not float(np.sum(n_float)) <= MAX_SUBSTEPS:  # each sub-step holds a few arrays' rows: bound the memory
         raise ScenarioError("run.t_end", float(t[-1]), f"needs {float(np.sum(n_float)):.3g} attitude steps of "
                             f"{QUAT_STEP} rad in the averaged model, more than its budget of {MAX_SUBSTEPS:.0f}"
-                            + _detuning_cause(co, spring))
+                            + _detuning_cause(co, spring, rate))
     n_sub = n_float.astype(np.int64)
     n_sub[dt == 0] = 0
     starts = np.repeat(t - dt, n_sub)
@@ -174,14 +174,15 @@ def _attitude(co: AveragedCoefficients, u0: np.ndarray, W: float, t: np.ndarray,
     return q / np.linalg.norm(q, axis=1, keepdims=True)
 
 
-def _detuning_cause(co: AveragedCoefficients, spring: str) -> str:
-    """Why the slow phase turns fast, when the spring is far off resonance (|sigma| more than DETUNED x Omega):
-    then the spring's keys set the step count as much as t_end does, and the refusal names them."""
-    if not spring or not abs(co.sigma) > DETUNED * abs(co.Omega):
+def _detuning_cause(co: AveragedCoefficients, spring: str, rate: float) -> str:
+    """Why the slow phase turns fast, when it turns more than DETUNED x Omega: then the pendulum's own keys (a spring
+    far off resonance, a damper far too strong, a bob too light) set the step count as much as t_end does, and the
+    refusal names them."""
+    if not spring or not rate > DETUNED * abs(co.Omega):
         return ": shorten t_end"
-    return (f"; the pendulum is far off resonance: {spring} give omega_0 = {co.p.omega0:.3g} rad/s against the "
-            f"nutation's Omega = {co.Omega:.3g} rad/s (detuning {abs(co.sigma):.3g} rad/s): bring the spring nearer "
-            "resonance or shorten t_end")
+    return (f"; the pendulum's slow rates reach {rate:.3g} rad/s against the nutation's Omega = {co.Omega:.3g} rad/s "
+            f"({spring}; omega_0 = {co.p.omega0:.3g} rad/s, detuning {abs(co.sigma):.3g} rad/s): bring the pendulum "
+            "nearer resonance with a moderate damper, or shorten t_end")
 
 
 def _tilt(psi: np.ndarray, theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -237,7 +238,8 @@ def solve_averaged(sc: Scenario, t: np.ndarray) -> Trajectory:
 def _spring_words(sc: Scenario) -> str:
     k = sc.pendulum.k
     k_words = f'"{k}"' if isinstance(k, str) else f"{k:.6g} N m/rad"  # a tuning's name, or the stiffness
-    return f"pendulum.k = {k_words} and pendulum.m = {sc.pendulum.m:.6g} kg"
+    p = sc.pendulum
+    return f"pendulum.k = {k_words}, pendulum.m = {p.m:.6g} kg, pendulum.c_d = {p.c_d:.6g} N m s/rad"
 
 
 def initial_momentum(sc: Scenario, G: float) -> np.ndarray:
