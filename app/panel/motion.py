@@ -13,8 +13,8 @@ from __future__ import annotations
 import threading
 
 from ..share.link import MOTION_KEY
+from ..share.panel import READ_TIMEOUT  # the same wait as for the stored scenes: a busy tab answers late
 
-READ_TIMEOUT = 60.0  # s: as app.share.panel.READ_TIMEOUT (a tab building its scene in software WebGL answers late)
 REDUCE = "reduce"  # the value the page's script writes when the browser asks for reduced motion
 NOTE = "paused because this browser asks for reduced motion: press Play (or Space) to start"
 
