@@ -233,16 +233,10 @@ class Panel:
             try:
                 panel_class = getattr(importlib.import_module(f"..studies.{module}", __package__), cls)
                 with folder:
-                    self.panels[title] = panel_class(gui, lambda: self.engine.scenario, apply,
-                                                     canvas_width=self._canvas_width(), **options)
+                    self.panels[title] = panel_class(gui, lambda: self.engine.scenario, apply, **options)
                 opener.remove()
             except Exception as exc:  # a panel that cannot open says so; the tab runs on
                 self.engine.error = f"{title} panel: {type(exc).__name__}: {exc}"
-
-    def _canvas_width(self) -> int | None:
-        """The 3-D view's width in px as this tab's browser last reported it (None before it has)."""
-        width = getattr(getattr(self.client, "camera", None), "image_width", None)
-        return int(width) if isinstance(width, int) and width > 0 else None
 
     def _bind_slider(self, key: str, slider) -> None:
         @slider.on_update

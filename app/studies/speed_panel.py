@@ -86,8 +86,7 @@ class SpeedPanel:
     (replaceable in tests)."""
 
     def __init__(self, gui, get_scenario: Callable[[], physics.Scenario],
-                 apply: Callable[[physics.Scenario], None], *, sweep=None,
-                 canvas_width: int | None = None):
+                 apply: Callable[[physics.Scenario], None], *, sweep=None):
         self.get_scenario, self.apply = get_scenario, apply
         self.sweep = sweep or physics.work_precision
         self.result: physics.WorkPrecision | None = None
@@ -100,7 +99,7 @@ class SpeedPanel:
         self.run_btn = gui.add_button("Run speed vs accuracy sweep")
         self.stop_btn = gui.add_button("Stop", disabled=True)
         self.bar = gui.add_progress_bar(0.0)
-        tab = results_window.results_tab(gui, "Speed vs accuracy", canvas_width)
+        tab = results_window.results_tab(gui, "Speed vs accuracy")
         with tab if tab is not None else contextlib.nullcontext():
             self.status = gui.add_markdown("Run the sweep: its chart and recommendation appear here.")
             # aspect is height / width in viser's browser side (see sweep_panel.py); room below for the legend

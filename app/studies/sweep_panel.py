@@ -57,8 +57,7 @@ class SweepPanel:
 
     def __init__(self, gui, get_scenario: Callable[[], physics.Scenario],
                  load_scenario: Callable[[physics.Scenario], None], *, workers: int | None = None,
-                 executor: str = "processes", scene=None,
-                 canvas_width: int | None = None):
+                 executor: str = "processes", scene=None):
         self.get_scenario, self.load_scenario = get_scenario, load_scenario
         self.board = SweepBoard(scene, self.load_point) if scene is not None else None
         self.workers, self.executor = workers, executor
@@ -92,7 +91,7 @@ class SweepPanel:
         self.board_box = gui.add_checkbox("cells in the 3-D scene", False, visible=scene is not None,
                                           hint="also draw the points on the floor in front of the body; "
                                           "clicking a cell loads its point")
-        tab = results_window.results_tab(gui, "Sweep", canvas_width)
+        tab = results_window.results_tab(gui, "Sweep")
         with tab if tab is not None else contextlib.nullcontext():
             self.result_md = gui.add_markdown("Run a sweep: its best point, chart and points appear here.")
             # viser's browser side sizes a plotly chart as height = aspect x width (measured: 0.625 gives
