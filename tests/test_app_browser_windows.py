@@ -51,6 +51,8 @@ def test_the_study_windows_open_beside_the_view_not_over_its_legend_or_sphere(br
         click(page, "Open the speed vs accuracy panel")
         page.get_by_text(SPEED).wait_for()
         page.wait_for_timeout(1500)  # the dock's layout settles
+        # the folders the user opened stay open (moving the control panel into the dock closed them all)
+        assert page.get_by_role("button", name="Run sweep", exact=True).is_visible()
         rects = page.evaluate(RECTS_JS, [SWEEP, SPEED, LEGEND, SPHERE])
         canvas, found = rects["canvas"], rects["found"]
         assert set(found) == {SWEEP, SPEED, LEGEND, SPHERE}, found

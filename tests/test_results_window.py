@@ -1,6 +1,7 @@
-"""Where the study windows open (issue 24, point 5): in the control panel's column, docked at the page's right
-edge, so the 3-D view is what remains beside them and no window covers its legend, sphere or body; a second
-window stacks under the first. The browser side is tests/test_app_browser_windows.py."""
+"""Where the study windows open (issue 24, point 5): in the control panel's column (the server docks the control
+panel at the page's right edge; a window never moves it, which would close its open folders), so the 3-D view
+is what remains beside them and no window covers its legend, sphere or body; a second window stacks under the
+first. The browser side is tests/test_app_browser_windows.py."""
 
 from __future__ import annotations
 
@@ -44,12 +45,12 @@ class Gui:
         return self.windows[-1]
 
 
-def test_the_first_window_docks_the_control_panel_right_and_stacks_below_it_and_the_second_below_the_first():
+def test_the_first_window_stacks_below_the_control_panel_without_moving_it_and_the_second_below_the_first():
     gui = Gui()
     results_window.results_tab(gui, "Sweep")
     results_window.results_tab(gui, "Speed vs accuracy")
     docks = [entry for entry in gui.log if entry[0].startswith("dock")]
-    assert docks == [("dock_right", "main"), ("dock_below", "window 0", "main"),
+    assert docks == [("dock_below", "window 0", "main"),
                      ("dock_below", "window 1", "window 0")]
     assert not any(entry[0] == "float" for entry in gui.log)  # never floated over the view
 

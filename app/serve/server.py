@@ -42,6 +42,11 @@ class App:
             install_page_scripts()
         self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
         refuse_share_tunnel(self.server)
+        # The control panel docked at the right edge from the start, not floating over the view: the 3-D view is
+        # what remains beside it, and a study window docks below it later without moving it (moving it from
+        # floating to docked would remount it and close every folder the user had opened, the Sweep folder
+        # holding the button they just pressed among them).
+        self.server.gui.main_panel.dock_right()
         self.sessions: dict[int, Session] = {}
         self.stats: dict = {}
         # (client id, frames its session published) of the last closed tabs: bench/load.py compares them

@@ -1,16 +1,16 @@
-"""Movable windows (viser 1.1's ``gui.add_panel``) that hold the study panels' results with room to read
-them: the sweep's chart and points, the speed-versus-accuracy chart. Each study gets its own window.
+"""Movable windows (viser 1.1's ``gui.add_panel``) that hold the study panels' results with room to read them:
+the sweep's chart and points, the speed-versus-accuracy chart. Each study gets its own window.
 
-The first window docks the control panel to the page's right edge and stacks itself below it, in the same
-column; a second window stacks below the first. The 3-D view is what remains to the left of that column,
-so no window covers it: the legend (which floats at the view's left), the momentum sphere (lower left in
-the view) and the body stay in sight at 1024x768 as at 1400x900. (Docked at the left edge instead, the
-windows left a 1024 px page a 3-D view about 250 px wide between them and the floating control panel, with
-the body under the panel.) The user can drag, float, resize or minimize them. (One window with a tab per
-study would hide a new result behind the other tab: viser cannot switch tabs from Python.)
+The first window stacks itself below the control panel, which the server docks at the page's right edge
+(app.serve.server), in the same column; a second window stacks below the first. The 3-D view is what remains
+to the left of that column, so no window covers it: the legend (which floats at the view's left), the momentum
+sphere (lower left in the view) and the body stay in sight at 1024x768 as at 1400x900. (Docked at the left
+edge instead, the windows left a 1024 px page a 3-D view about 250 px wide between them and the floating
+control panel, with the body under the panel.) The user can drag, float, resize or minimize them. (One window
+with a tab per study would hide a new result behind the other tab: viser cannot switch tabs from Python.)
 
-A gui without ``add_panel`` (an older viser, the tests' fake) gets None: the caller then places its
-results inline, in its own folder.
+A gui without ``add_panel`` (an older viser, the tests' fake) gets None: the caller then places its results
+inline, in its own folder.
 """
 
 from __future__ import annotations
@@ -35,7 +35,5 @@ def results_tab(gui, label: str):
         except ValueError:  # the first window was closed: this one takes its place
             pass
     _first[gui] = window
-    main = gui.main_panel  # a fresh handle on each access (viser): the control panel of this gui's page
-    main.dock_right()
-    window.dock_below(main)
+    window.dock_below(gui.main_panel)  # docked right by the server; docking it here would close its folders
     return tab
