@@ -155,6 +155,9 @@ class Model:
     so. ``reduce(scenario) -> Model | None``: an exact cheaper form of the same equations for this scenario (the
     moving mass's averaged model of an axisymmetric body), run in its place under the same name and fidelity;
     ``for_scenario`` applies it.
+
+    ``stiff_advice(scenario) -> str``: what sets the fastest rate of this model's internal part and what to
+    change, naming the keys, for the refusal of a run too stiff for the explicit integrator.
     """
 
     name: str
@@ -176,6 +179,7 @@ class Model:
     initial_momentum: Callable[[Scenario, float], np.ndarray] | None = None
     chart: Chart | None = None
     reduce: Callable[[Scenario], Model | None] | None = None
+    stiff_advice: Callable[[Scenario], str] | None = None
 
     def for_scenario(self, sc: Scenario) -> Model:
         """The model that runs ``sc``: its ``reduce`` hook's form where it applies, else this one."""

@@ -9,6 +9,7 @@ carries the mass's (zero) coordinates along, 15 states in all.
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,9 +17,10 @@ import pytest
 import physics
 from physics.compiled import mass_full
 from physics.core.rotation import nutation_angle, rotate
-from physics.stepping.stepper import Stepper, spectral_radius, supports
+from physics.stepping.stepper import STIFF, Stepper, spectral_radius, supports
 from physics.systems.moving_mass import models as mm
 
+ROOT = Path(__file__).resolve().parents[1]
 NAME = "free_body_test"
 AGREE = 1e-9  # rad, and relative in |K|: two runs at rtol 1e-12 whose error norms differ (7 against 15 states)
 RTOL = 1e-12
@@ -208,3 +210,30 @@ def test_braking_is_refused_for_a_python_model_naming_control_b():
     p = model.pack(braked)
     with pytest.raises(physics.ScenarioError, match=r"control.b = 0.1: braking needs the braking law's \|G\|"):
         Stepper(model, braked, model.initial_state(braked, p), p=p)
+
+
+@pytest.mark.parametrize("toml, edits, named", [
+    ("quadratic_friction.toml", {"mass.Omega": 1e4, "mass.rho": 1e-6},
+     ("mass.Omega = 10000 rad/s", "mass.lam_q = 16000 1/m", "mass.rho = 1e-06 m", "initial.G0", "initial.theta0")),
+    ("pendulum_resonant.toml", {"pendulum.c_d": 1e5}, ("pendulum.k", "pendulum.c_d", "pendulum.m")),
+    ("wheel_damper.toml", {"wheel.c": 1e5, "wheel.J": 0.005}, ("wheel.c / wheel.J = 2e+07 1/s", "wheel.J")),
+], ids=["moving mass", "spherical pendulum", "wheel"])
+def test_a_stiff_run_is_refused_in_its_own_system_s_keys(toml, edits, named, monkeypatch):
+    """The stiffness refusal's advice is the system's (Model.stiff_advice), naming the keys that set the fast
+    rate and the motion: a moving mass whose rho was made tiny is told about rho, not only about Omega and chi
+    (it said "lower Omega or chi" for every system, the wheel and the pendulums too)."""
+    from physics.stepping import stepper as stepper_module
+
+    monkeypatch.setattr(stepper_module, "STIFFNESS_CHECK_STEPS", 300)  # checked within a short run
+    base = physics.Scenario.from_toml((ROOT / "assets" / "scenarios" / toml).read_text())
+    sc = base.with_values(**edits, **{"run.fidelity": "full"})
+    model = physics.get_model(sc.system, "full").for_scenario(sc)
+    p = model.pack(sc)
+    y = model.initial_state(sc, p)
+    piece = Stepper(model, sc, y, p=p).step(y, np.array([0.0, 1.0]), 10_000)
+    assert piece.status == STIFF, (piece.status, piece.t_last)
+    message = str(piece.fault())
+    assert "too stiff for the explicit integrator" in message, message
+    assert toml.startswith("quadratic") or "Omega" not in message, message  # no moving mass's words elsewhere
+    for words in named:
+        assert words in message, (words, message)

@@ -192,6 +192,7 @@ class Stepper:
         method = method or sc.run.method
         check_method(self.model, sc, method)
         self.method = method
+        self.sc = sc  # for the stiffness refusal's advice, which the model words from the scenario
         self.dt = None if sc.run.dt is None else float(sc.run.dt)
         self.p = np.asarray(self.model.pack(sc) if p is None else p, dtype=float)
         self.rtol = sc.run.rtol
@@ -293,9 +294,11 @@ class Stepper:
         h_lambda = self.h * spectral_radius(self.rhs, t_last, y_last, self.p)
         if h_lambda <= STIFF_H_LAMBDA:
             return status, ""
+        advice = (self.model.stiff_advice(self.sc) if self.model.stiff_advice is not None else
+                  "the internal part's fastest rate sets the step: slow it, or use a cheaper fidelity")
         return STIFF, (f"too stiff for the explicit integrator (DOP853): {steps} steps covered {t_last - since:.3g} "
                        f"s, each held at the stability limit (h |lambda| = {h_lambda:.2g}, fastest mode faster "
-                       "than the motion); lower Omega or chi, or use the averaged fidelity")
+                       f"than the motion); {advice}")
 
     # ---- scipy's methods: whole runs (simulate only) ---------------------------------------------------
     def solve_ivp(self, y0, t: np.ndarray, method: str, max_evals: int, progress=None):

@@ -97,13 +97,23 @@ def invariants_full(Y, p):
     return rotate(Y[:, 9:13], Kb), E
 
 
+def stiff_advice(sc: Scenario) -> str:
+    """Why a moving-mass run is stiff, in its keys: the spring-damper's rates against the motion that drives it."""
+    m, ini = sc.mass, sc.initial
+    fast = f"mass.Omega = {m.Omega:g} rad/s, mass.chi = {m.chi:g} 1/s" + (
+        f", mass.lam_q = {m.lam_q:g} 1/m" if m.lam_q else "")
+    return (f"the mass's spring-damper ({fast}) is far quicker than the motion driving it (mass.rho = {m.rho:g} m, "
+            f"initial.G0 = {ini.G0:g}, initial.theta0 = {ini.theta0:g} rad): lower Omega, chi or lam_q, raise "
+            "rho, G0 or theta0, or use the averaged or closed-form fidelity")
+
+
 FULL = register(Model(
     name="moving_mass/full", system="moving_mass", fidelity="full",
     summary="carrier + point mass on a spring-damper, reduced-mass multibody equations (docs/models.md A.2)",
     state=("wx", "wy", "wz", "ux", "uy", "uz", "vx", "vy", "vz", "qw", "qx", "qy", "qz", "W_int", "W_ext"),
     kernel=kernels.MASS_FULL, pack=pack_full, initial_state=initial_full, observe=observe_full,
     invariants=invariants_full,
-    columns=("ux", "uy", "uz", "vx", "vy", "vz", "W_int", "W_ext"),
+    columns=("ux", "uy", "uz", "vx", "vy", "vz", "W_int", "W_ext"), stiff_advice=stiff_advice,
 ))
 
 

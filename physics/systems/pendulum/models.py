@@ -81,13 +81,20 @@ def invariants(Y, p):
     return rotate(Y[:, o:o + 4], H), E
 
 
+def stiff_advice(sc: Scenario) -> str:
+    """Why a pendulum run is stiff, in its keys: the pivot's spring and damper against the bob they act on."""
+    return ("the pivot's spring and damper (pendulum.k, pendulum.c_d) are far quicker than the motion driving "
+            f"the bob (pendulum.m, pendulum.l, initial.G0 = {sc.initial.G0:g}): lower k or c_d, raise m or l, or "
+            "use the averaged fidelity")
+
+
 SPHERICAL_FULL = register(Model(
     name="spherical_pendulum/full", system="spherical_pendulum", fidelity="full",
     summary="carrier + spherical pendulum (Alger) on a Cardan pivot, exact reduced multibody equations "
             "(docs/models.md B.2)",
     state=("wx", "wy", "wz", "alpha", "beta", "alpha_dot", "beta_dot", "qw", "qx", "qy", "qz", "W_diss", "chart"),
     kernel=kernels.SPHERICAL_FULL, pack=pack, initial_state=initial_state, observe=observe, invariants=invariants,
-    columns=("alpha", "beta", "alpha_dot", "beta_dot", "W_diss", "chart"),
+    columns=("alpha", "beta", "alpha_dot", "beta_dot", "W_diss", "chart"), stiff_advice=stiff_advice,
 ))
 
 def plane_layout(n: int) -> tuple[str, ...]:
@@ -104,4 +111,5 @@ PLANE_FULL = register(Model(
     layout=plane_layout,
     kernel=kernels.PLANE_FULL, pack=pack, initial_state=initial_state, observe=observe, invariants=invariants,
     columns=("W_diss",),  # and a1..aN, a1_dot..aN_dot (see _internal)
+    stiff_advice=stiff_advice,
 ))

@@ -46,10 +46,16 @@ def invariants(Y, p):
     return rotate(Y[:, Q:Q + 4], K), E
 
 
+def stiff_advice(sc: Scenario) -> str:
+    """Why a wheel run is stiff, in its keys: the bearing's relaxation rate c / J against the body's motion."""
+    return (f"the bearing relaxes the wheel at about wheel.c / wheel.J = {sc.wheel.c / sc.wheel.J:.3g} 1/s, far "
+            "quicker than the body's motion: lower wheel.c or raise wheel.J")
+
+
 FULL = register(Model(
     name="wheel/full", system="wheel", fidelity="full",
     summary="body + wheel in a viscous bearing, exact equations K' + w x K = 0, J (a.w' + Omega_w') = -c Omega_w "
             "(docs/models.md C.1)",
     state=STATE, kernel=kernels.WHEEL_FULL, pack=pack, initial_state=initial_state, observe=observe,
-    invariants=invariants, columns=("phi_w", "Omega_w", "W_diss"),
+    invariants=invariants, columns=("phi_w", "Omega_w", "W_diss"), stiff_advice=stiff_advice,
 ))
