@@ -195,7 +195,16 @@ def click(page, name: str) -> None:
     page.wait_for_timeout(150)  # the browser sends one GUI message per 50 ms
 
 
-def choose(page, label: str, option: str) -> None:
+def choose(page, label: str, option: str, tries: int = 3) -> None:
+    """Open the dropdown ``label`` and click ``option``. A list the server closes by resending its options (after
+    the previous change) never shows the option: it is opened again, up to ``tries`` times."""
+    for _ in range(tries - 1):
+        page.locator(f'[id="{control_id(page, label)}"]').click()
+        try:
+            page.get_by_role("option", name=option, exact=True).click(timeout=UI_TIMEOUT / 2)
+            return
+        except sync_api.TimeoutError:
+            page.keyboard.press("Escape")
     page.locator(f'[id="{control_id(page, label)}"]').click()
     page.get_by_role("option", name=option, exact=True).click()
 
