@@ -98,13 +98,11 @@ def invariants_full(Y, p):
 
 
 def stiff_advice(sc: Scenario) -> str:
-    """Why a moving-mass run is stiff, in its keys: the spring-damper's rates against the motion that drives it."""
-    m, ini = sc.mass, sc.initial
-    fast = f"mass.Omega = {m.Omega:g} rad/s, mass.chi = {m.chi:g} 1/s" + (
-        f", mass.lam_q = {m.lam_q:g} 1/m" if m.lam_q else "")
-    return (f"the mass's spring-damper ({fast}) is far quicker than the motion driving it (mass.rho = {m.rho:g} m, "
-            f"initial.G0 = {ini.G0:g}, initial.theta0 = {ini.theta0:g} rad): lower Omega, chi or lam_q, raise "
-            "rho, G0 or theta0, or use the averaged or closed-form fidelity")
+    """Why a moving-mass run is stiff, in its keys: the spring-damper's rates against the motion that drives it.
+    Short: it is shown under the slider that was changed, in the control panel's column."""
+    fast = "mass.Omega, mass.chi" + (", mass.lam_q" if sc.mass.lam_q else "")
+    return (f"the spring-damper ({fast}) outpaces the motion driving it (mass.rho, initial.G0, initial.theta0): "
+            "lower the first or raise the second, or use the averaged or closed-form fidelity")
 
 
 FULL = register(Model(

@@ -83,9 +83,8 @@ def invariants(Y, p):
 
 def stiff_advice(sc: Scenario) -> str:
     """Why a pendulum run is stiff, in its keys: the pivot's spring and damper against the bob they act on."""
-    return ("the pivot's spring and damper (pendulum.k, pendulum.c_d) are far quicker than the motion driving "
-            f"the bob (pendulum.m, pendulum.l, initial.G0 = {sc.initial.G0:g}): lower k or c_d, raise m or l, or "
-            "use the averaged fidelity")
+    return ("the pivot's spring and damper (pendulum.k, pendulum.c_d) outpace the bob's motion (pendulum.m, "
+            "pendulum.l, initial.G0): lower the first or raise the second, or use the averaged fidelity")
 
 
 SPHERICAL_FULL = register(Model(

@@ -48,8 +48,8 @@ def invariants(Y, p):
 
 def stiff_advice(sc: Scenario) -> str:
     """Why a wheel run is stiff, in its keys: the bearing's relaxation rate c / J against the body's motion."""
-    return (f"the bearing relaxes the wheel at about wheel.c / wheel.J = {sc.wheel.c / sc.wheel.J:.3g} 1/s, far "
-            "quicker than the body's motion: lower wheel.c or raise wheel.J")
+    return (f"the bearing (wheel.c / wheel.J = {sc.wheel.c / sc.wheel.J:.3g} 1/s) outpaces the body's motion: lower "
+            "wheel.c or raise wheel.J")
 
 
 FULL = register(Model(
