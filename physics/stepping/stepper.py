@@ -297,8 +297,7 @@ class Stepper:
         advice = (self.model.stiff_advice(self.sc) if self.model.stiff_advice is not None else
                   "the internal part's fastest rate sets the step: slow it, or use a cheaper fidelity")
         return STIFF, (f"too stiff for the explicit integrator (DOP853): {steps} steps covered {t_last - since:.3g} "
-                       f"s, each held at the stability limit (h |lambda| = {h_lambda:.2g}, fastest mode faster "
-                       f"than the motion); {advice}")
+                       f"s at its stability limit (h |lambda| = {h_lambda:.2g}); {advice}")
 
     # ---- scipy's methods: whole runs (simulate only) ---------------------------------------------------
     def solve_ivp(self, y0, t: np.ndarray, method: str, max_evals: int, progress=None):
