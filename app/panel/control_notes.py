@@ -2,6 +2,10 @@
 folder, where the eye already is (the top of the panel is a screen away from most sliders at 1400x900).
 A fault's note carries its way out: "Undo the last change" and "Reset the scene" buttons under it.
 
+A fault's note is long, and the slider may sit at the panel's bottom edge (a folder opened there is scrolled
+only far enough to show it): the page's script (PAGE_SCRIPT, installed by app.serve.page_scripts) scrolls the
+panel once so that the note's last button is in the middle of the view, with the note above it.
+
 viser orders a container's elements by ``order`` (a float; by default a global counter, so consecutive
 elements differ by at least 1): a note at the slider's order + 0.25 sits between it and the next control.
 """
@@ -13,6 +17,25 @@ from ..engine.edits import Note
 COLORS = {"rejected": "#c00", "fault": "#c00", "widened": "#a15c00", "read": "#555"}
 UNDO_LABEL = "Undo the last change"
 RESET_LABEL = "Reset the scene"
+
+PAGE_SCRIPT = b"""<script>/* Quasirigid (app/panel/control_notes.py): a fault's way out scrolled into sight */
+(function () {
+  var pending = false;
+  function reveal() {
+    pending = false;
+    var buttons = document.querySelectorAll("button");
+    for (var i = 0; i < buttons.length; i++) {
+      var b = buttons[i];
+      if (b.textContent.trim() !== "RESET_LABEL" || b.getAttribute("data-qr-seen") === "1") continue;
+      b.setAttribute("data-qr-seen", "1");  /* once per note: the user may scroll away afterwards */
+      b.scrollIntoView({block: "center"});  /* "nearest" left it on the edge, a fraction of a pixel out */
+    }
+  }
+  function later() { if (!pending) { pending = true; setTimeout(reveal, 100); } }
+  function start() { new MutationObserver(later).observe(document.body, {childList: true, subtree: true}); }
+  if (document.body) start(); else document.addEventListener("DOMContentLoaded", start);
+})();
+</script>""".replace(b"RESET_LABEL", RESET_LABEL.encode())
 
 
 class NotePlace:
