@@ -4,7 +4,8 @@ A fault's note carries its way out: "Undo the last change" and "Reset the scene"
 
 A fault's note is long, and the slider may sit at the panel's bottom edge (a folder opened there is scrolled
 only far enough to show it): the page's script (PAGE_SCRIPT, installed by app.serve.page_scripts) scrolls the
-panel once so that the note's last button is in the middle of the view, with the note above it.
+panel once, when the note's last button is out of sight, to bring it to the middle of the view with the note
+above it.
 
 viser orders a container's elements by ``order`` (a float; by default a global counter, so consecutive
 elements differ by at least 1): a note at the slider's order + 0.25 sits between it and the next control.
@@ -28,6 +29,8 @@ PAGE_SCRIPT = b"""<script>/* Quasirigid (app/panel/control_notes.py): a fault's 
       var b = buttons[i];
       if (b.textContent.trim() !== "RESET_LABEL" || b.getAttribute("data-qr-seen") === "1") continue;
       b.setAttribute("data-qr-seen", "1");  /* once per note: the user may scroll away afterwards */
+      var r = b.getBoundingClientRect();
+      if (r.top >= 0 && r.bottom <= window.innerHeight - 2) continue;  /* in sight already: the panel stays put */
       b.scrollIntoView({block: "center"});  /* "nearest" left it on the edge, a fraction of a pixel out */
     }
   }
