@@ -198,15 +198,16 @@ def click(page, name: str) -> None:
 def choose(page, label: str, option: str, tries: int = 3) -> None:
     """Open the dropdown ``label`` and click ``option``. A list the server closes by resending its options (after
     the previous change) never shows the option: it is opened again, up to ``tries`` times."""
-    for _ in range(tries - 1):
+    for attempt in range(tries):
+        last = attempt == tries - 1
         page.locator(f'[id="{control_id(page, label)}"]').click()
         try:
-            page.get_by_role("option", name=option, exact=True).click(timeout=UI_TIMEOUT / 2)
+            page.get_by_role("option", name=option, exact=True).click(timeout=UI_TIMEOUT if last else UI_TIMEOUT / 2)
             return
         except sync_api.TimeoutError:
+            if last:
+                raise
             page.keyboard.press("Escape")
-    page.locator(f'[id="{control_id(page, label)}"]').click()
-    page.get_by_role("option", name=option, exact=True).click()
 
 
 def choose_until(page, label: str, option: str, done, what: str, tries: int = 3) -> None:

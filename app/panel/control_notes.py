@@ -21,21 +21,22 @@ RESET_LABEL = "Reset the scene"
 
 PAGE_SCRIPT = b"""<script>/* Quasirigid (app/panel/control_notes.py): a fault's way out scrolled into sight */
 (function () {
-  var pending = false;
-  function reveal() {
-    pending = false;
-    var buttons = document.querySelectorAll("button");
-    for (var i = 0; i < buttons.length; i++) {
-      var b = buttons[i];
-      if (b.textContent.trim() !== "RESET_LABEL" || b.getAttribute("data-qr-seen") === "1") continue;
-      b.setAttribute("data-qr-seen", "1");  /* once per note: the user may scroll away afterwards */
-      var r = b.getBoundingClientRect();
-      if (r.top >= 0 && r.bottom <= window.innerHeight - 2) continue;  /* in sight already: the panel stays put */
-      b.scrollIntoView({block: "center"});  /* "nearest" left it on the edge, a fraction of a pixel out */
-    }
+  function reveal(b) {  /* a Reset button just added: each is added once, with its note */
+    var r = b.getBoundingClientRect();
+    if (r.top >= 0 && r.bottom <= window.innerHeight - 2) return;  /* in sight already: the panel stays put */
+    b.scrollIntoView({block: "center"});  /* "nearest" left it on the edge, a fraction of a pixel out */
   }
-  function later() { if (!pending) { pending = true; setTimeout(reveal, 100); } }
-  function start() { new MutationObserver(later).observe(document.body, {childList: true, subtree: true}); }
+  function added(records) {  /* only the nodes added: the readouts' many text changes cost nothing here */
+    for (var i = 0; i < records.length; i++)
+      for (var j = 0; j < records[i].addedNodes.length; j++) {
+        var n = records[i].addedNodes[j];
+        if (n.nodeType !== 1) continue;
+        var found = n.matches("button") ? [n] : n.querySelectorAll("button");
+        for (var k = 0; k < found.length; k++)
+          if (found[k].textContent.trim() === "RESET_LABEL") setTimeout(reveal, 100, found[k]);  /* laid out */
+      }
+  }
+  function start() { new MutationObserver(added).observe(document.body, {childList: true, subtree: true}); }
   if (document.body) start(); else document.addEventListener("DOMContentLoaded", start);
 })();
 </script>""".replace(b"RESET_LABEL", RESET_LABEL.encode())
