@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from playwright import sync_api
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_app_browser import (  # noqa: E402  (chromium, once per module)
@@ -41,7 +42,11 @@ WAIT_MS = 120_000  # three tabs rendering in software WebGL on a loaded machine 
 
 
 def wait(page, predicate, what: str):
-    return wait_until(page, predicate, what, WAIT_MS)
+    try:
+        return wait_until(page, predicate, what, WAIT_MS)
+    except pytest.fail.Exception as timed_out:  # what the page said instead, for the next reader of a CI log
+        raise AssertionError(f"{timed_out}; the page's status: {status(page)!r}; its readouts: "
+                             f"{readouts(page)!r}") from None
 
 
 def status(page) -> str:
@@ -78,10 +83,24 @@ def open_tab(browser, url: str, viewport: dict | None = None):
     return page
 
 
-def choose_now(page, label: str, option: str) -> None:
-    """``choose``, without waiting for the list to stop moving (three tabs in software WebGL animate it slowly)."""
-    page.locator(f'[id="{control_id(page, label)}"]').click()
-    page.get_by_role("option", name=option, exact=True).click(force=True)
+def choose_now(page, label: str, option: str, done, what: str, tries: int = 3) -> None:
+    """Choose ``option`` without waiting for the list to stop moving (three tabs in software WebGL animate it
+    slowly), until ``done()`` holds: a list the server closes while resending its options swallows the click, so
+    the choice is made again, never assumed."""
+    for _ in range(tries):
+        page.locator(f'[id="{control_id(page, label)}"]').click()
+        option_box = page.get_by_role("option", name=option, exact=True)
+        try:
+            option_box.click(force=True, timeout=WAIT_MS / 4)
+        except sync_api.TimeoutError:
+            page.keyboard.press("Escape")
+            continue
+        for _ in range(120):
+            if done():
+                return
+            page.wait_for_timeout(250)
+        page.keyboard.press("Escape")
+    pytest.fail(f"timed out waiting for {what}")
 
 
 def shot(page, name: str) -> None:
@@ -110,7 +129,8 @@ def test_a_class_lecturer_and_two_students(browser, links):
     wait(lecturer, lambda: all(read(p, "t") == read(lecturer, "t") for p in students),
                "the students' t is the lecturer's (the late one joined at the class's present)")
 
-    choose_now(lecturer, "Preset", PRESET)  # the lecturer's preset, in every student's readouts
+    choose_now(lecturer, "Preset", PRESET, lambda: f"preset: {PRESET}" in readouts(lecturer),
+               "the lecturer's own preset")  # and then in every student's readouts
     for page in students:
         wait(page, lambda page=page: f"preset: {PRESET}" in readouts(page) and "· paused" in status(page),
              "the lecturer's preset, paused")
