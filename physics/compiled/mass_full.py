@@ -6,7 +6,8 @@ q (4) attitude quaternion, scalar first, body -> inertial; W_int (1) work dissip
 
 Parameters (15), see ``pack``: carrier inertia about its own COM Jb, frozen inertia J*, reduced
 mass m_r, carrier COM -> O1 distance d0, spring c, damper delta, quadratic friction mu, control
-bound b, control law (0: G = K, 1: G = J* w), medium lambda, cavity coupling kc = beta P / nu.
+bound b, control law (0: G = K, 1: G = J* w; 2 + 2 i + s: a thruster, the torque b along body axis i + 1,
+positive for s = 0, negative for s = 1), medium lambda, cavity coupling kc = beta P / nu.
 
 The cavity is its asymptotic Stokes torque: the fluid carries the relative momentum
 k_f = -kc f(w), where f(w) = -J*^-1 (w x J* w) is the torque-free Euler acceleration (docs/models.md A.3).
@@ -65,8 +66,9 @@ def energy(y, p):
 
 @njit(cache=True)
 def braking_norm(y, p):
-    """|G| of the control law: |K| (law 0) or |J* w| (law 1)."""
-    if p[12] == 0.0:
+    """|G| of the control law: |K| (law 0, and a thruster's, whose run ends too if it brings K to rest) or
+    |J* w| (law 1)."""
+    if p[12] != 1.0:
         K1, K2, K3 = momentum(y, p)
         return math.sqrt(K1 * K1 + K2 * K2 + K3 * K3)
     return math.sqrt((p[3] * y[0]) ** 2 + (p[4] * y[1]) ** 2 + (p[5] * y[2]) ** 2)
@@ -86,7 +88,16 @@ def rhs(t, y, p, out):
     M1 = -lam * A * w1
     M2 = -lam * B * w2
     M3 = -lam * C * w3
-    if b > 0.0:
+    if b > 0.0 and p[12] >= 2.0:  # a thruster fixed in the body
+        axis = int(p[12] - 2.0)
+        push = b if axis % 2 == 0 else -b
+        if axis < 2:
+            M1 += push
+        elif axis < 4:
+            M2 += push
+        else:
+            M3 += push
+    elif b > 0.0:
         if p[12] == 0.0:
             G1, G2, G3 = K1, K2, K3
         else:

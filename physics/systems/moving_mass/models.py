@@ -19,11 +19,12 @@ from physics.registry import Chart, Model, register
 from physics.scenario.initial import initial_G
 from physics.scenario.scenario import Scenario
 from physics.systems.moving_mass.coefficients import coefficients
+from physics.systems.moving_mass.params import LAWS, THRUSTERS
 
 
 def _torques(sc: Scenario) -> tuple[float, float, float, float]:
     b = sc.control.b if sc.control else 0.0
-    law = 0.0 if (sc.control is None or sc.control.law == "K") else 1.0
+    law = 0.0 if sc.control is None else float((LAWS + THRUSTERS).index(sc.control.law))
     lam = sc.medium.lambda_ if sc.medium else 0.0
     kc = sc.cavity.coupling if sc.cavity else 0.0
     return b, law, lam, kc

@@ -12,6 +12,9 @@ from physics.core.errors import ScenarioError
 from physics.scenario.params import _choice, nonneg, positive
 
 LAWS = ("K", "Jw")
+# A thruster fixed in the body: the torque b along one body axis, whatever the motion (the braking challenge's
+# hand control, which races the law above). The kernel's law code is the index in LAWS + THRUSTERS.
+THRUSTERS = ("+e1", "-e1", "+e2", "-e2", "+e3", "-e3")
 # initial.mass_state: "rest" puts the mass at O1 with no relative velocity (also when not given); "quasistatic" on
 # its forced (slow-manifold) motion, docs/models.md Part A section 3. The key sits in the shared [initial] table (every
 # shipped file and share link spells it so) but belongs to this system: System.initial_keys.
@@ -86,14 +89,15 @@ class Medium:
 @dataclass(frozen=True)
 class Control:
     """Time-optimal braking torque -b G/|G| (seed 004 eq. (8)); b in N m. ``law`` says which G:
-    "K" the total angular momentum, "Jw" the fictitious body's J* w."""
+    "K" the total angular momentum, "Jw" the fictitious body's J* w; or one of THRUSTERS, a torque b along
+    that body axis (not a brake: it turns with the body, and only the full model runs it)."""
 
     b: float
     law: str = "K"
 
     def __post_init__(self):
         object.__setattr__(self, "b", nonneg("control.b", self.b))
-        _choice("control.law", self.law, LAWS)
+        _choice("control.law", self.law, LAWS + THRUSTERS)
 
 
 A0_MAX = 1.7e308 ** (1 / 7) * (525.0 / (8.0 * math.pi)) ** (1 / 7)  # m: where the cavity's shape factor P overflows

@@ -23,7 +23,7 @@ from physics.systems.moving_mass.models import quasi_static_displacement
 from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium, check_mass_state
 from physics.systems.moving_mass.quantities import QUANTITIES
 from physics.systems.moving_mass.start import PART, STATE, start_part
-from physics.systems.moving_mass.validity import closed_form_available
+from physics.systems.moving_mass.validity import closed_form_available, thruster
 
 NAME = "moving_mass"
 MASS_FOLDER, FRICTION_FOLDER = "Moving mass, medium, braking", "Friction and cavity"
@@ -97,6 +97,8 @@ def end_locked(sc) -> EndLocked | str:
 
 
 def available(sc, fidelity: str) -> tuple[bool, str]:
+    if fidelity == "averaged" and thruster(sc):
+        return False, "a thruster fixed in the body has no averaged form (the averaged model brakes along G)"
     return closed_form_available(sc) if fidelity == "closed" else (True, "")
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 from physics.registry import Condition
 from physics.scenario.scenario import Scenario
 from physics.systems.moving_mass.coefficients import _floats, _ieee, coefficients
+from physics.systems.moving_mass.params import THRUSTERS
 
 EPS_MAX = 0.1  # Omega^2 >> w^2
 COUPLING_MAX = 0.1  # Omega^2 >> chi w
@@ -19,6 +20,15 @@ SLOW_MAX = 0.1  # b/G and lambda small next to w
 ASYM_MAX = 1e-9  # A = B
 FAST_SPRING = "the spring is fast next to the spin"  # eps's words, here and in the error estimate's domain
 SYMMETRIC = "the body is nearly symmetric (A close to B)"
+
+
+THRUSTER = "control.law (a thruster fixed in the body)"
+
+
+def thruster(sc: Scenario) -> bool:
+    """The control is a thruster along a body axis (params.THRUSTERS): the averaged and closed forms brake along
+    G only, so only the full model runs it."""
+    return sc.control is not None and sc.control.law in THRUSTERS
 
 
 @_ieee
@@ -42,6 +52,8 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
                              "the fluid in the cavity flows slowly (viscous)"))
     if sc.medium is not None:
         out.append(Condition("lambda / |w0|", co.lam / w, SLOW_MAX, "the medium slows the spin only a little per turn"))
+    if thruster(sc):
+        out.append(Condition(THRUSTER, 1.0, 0.0, "the braking torque follows G (law K or Jw), not a body axis"))
     if sc.control is not None:
         out.append(Condition("b / (G0 |w0|)", co.b / (co.G0 * w), SLOW_MAX,
                              "the brake slows the spin only a little per turn"))
@@ -52,6 +64,8 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
 def closed_form_available(sc: Scenario) -> tuple[bool, str]:
     """The closed forms cover seed 004 (viscous mass, cavity, medium, control) and seed 000
     section 2 (quadratic friction alone)."""
+    if thruster(sc):
+        return False, "a thruster fixed in the body has no closed form (the closed forms brake along G)"
     if sc.mass is not None and sc.mass.lam_q > 0:
         others = (sc.mass.chi > 0, sc.cavity is not None, sc.medium is not None, sc.control is not None)
         if any(others):
@@ -61,7 +75,7 @@ def closed_form_available(sc: Scenario) -> tuple[bool, str]:
 
 # the averaged conditions the error estimate does not cover (the study varies eps and the coupling chi |w0| /
 # Omega^2, so those are the estimate's to judge; these it never saw)
-STRUCTURAL = ("|w0|/chi", "Re", "lambda", "b /", "|A - B|")
+STRUCTURAL = ("|w0|/chi", "Re", "lambda", "b /", "|A - B|", "control.law")
 
 
 def structural_conditions(sc: Scenario) -> list[Condition]:
