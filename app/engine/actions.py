@@ -10,7 +10,7 @@ import math
 
 import physics
 
-from . import controls, edits, presets
+from . import challenge, controls, edits, presets
 from .buffers import RECENT, VIEWS, WHOLE_RUN
 from .clock import FRAME_HZ
 from .compare import set_compare, undo_compare
@@ -112,6 +112,9 @@ def _step(eng, _value) -> None:
 
 
 def _reset(eng, _value) -> None:
+    if eng.challenge is not None:  # the same attempt again, from its start
+        challenge.start(eng, (eng.challenge.level, eng.challenge.seed))
+        return
     eng.run.reset()
     eng.error = ""
     eng._restarted()
@@ -172,6 +175,7 @@ def _accuracy(eng, value) -> None:
 
 
 def _run_choice(eng, fidelity: str, accuracy: float | None, choices: dict) -> None:
+    challenge.stop(eng)  # another model: the race is no longer the level's
     sc = with_choices(eng.scenario, fidelity, accuracy, choices)
     kept = eng.run.retune(sc, keep_state=not eng.restart_on_change)
     eng.fidelity_choice, eng.accuracy_choice, eng.choices = fidelity, accuracy, dict(choices)
@@ -280,6 +284,7 @@ ACTIONS = {
     "polhode": _polhode, "sphere": _sphere, "mesh": _mesh, "upload": _upload, "scenario": _scenario,
     "undo": _undo, "reload": _reload,
     "compare": set_compare,  # app.engine.compare: a second run with one difference, or off
+    "challenge": challenge.start, "thrust": challenge.thrust,  # app.engine.challenge: the braking race
 }
 # a system's own action (physics.figure.Action), by its kind
 BY_KIND = {"button": _button_action, "choice": _choice_action, "item": _item_action, "view": _view_action}

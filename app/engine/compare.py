@@ -24,6 +24,7 @@ from .geometry import E3, Ring, align
 from .history import DecimatingStore
 
 PLACES = ("beside", "superimposed")  # where the second body is drawn (app.scene.compare_view)
+CHALLENGE = "challenge"  # a Difference's key for the braking challenge's optimal law (app.engine.challenge)
 
 
 @dataclass(frozen=True)
@@ -38,12 +39,16 @@ class Difference:
         """The second run's name, as the plots' legend and the readouts say it ("m = 0 kg")."""
         if self.key is None:
             return f"fidelity {self.value}"
+        if self.key == CHALLENGE:
+            return "the optimal law -b K/|K|"
         return _named(self.key, float(self.value))
 
     def own_label(self, scenario: physics.Scenario) -> str:
         """The first run's name for the same difference ("m = 0.2 kg")."""
         if self.key is None:
             return f"fidelity {scenario.run.fidelity}"
+        if self.key == CHALLENGE:
+            return "your thrusters"
         return _named(self.key, controls.values_of(scenario)[self.key])
 
 
@@ -80,6 +85,10 @@ def second_scenario(engine, diff: Difference) -> physics.Scenario:
     sc = engine.scenario
     if diff.key is None:
         return sc.replace(run=dataclasses.replace(sc.run, fidelity=diff.value))
+    if diff.key == CHALLENGE:
+        if getattr(engine, "challenge", None) is None:
+            raise physics.ScenarioError("compare", diff.value, "races a braking challenge, and none is running")
+        return engine.challenge.optimal
     p = controls.BY_KEY[diff.key]
     if sc.system not in p.systems:
         raise physics.ScenarioError(diff.key, diff.value, f"is not a parameter of a {sc.system} scene "
@@ -111,7 +120,7 @@ class Comparison:
         (the caller turns compare mode off and says why)."""
         second = second_scenario(engine, self.diff)
         run = physics.LiveRun(second)  # validates it; and the start it has of its own
-        if self.diff.key is None or not controls.BY_KEY[self.diff.key].restarts:
+        if self.diff.key in (None, CHALLENGE) or not controls.BY_KEY[self.diff.key].restarts:
             start = physics.LiveRun(engine.scenario)  # the first run's start: its K and attitude at t = 0
             if start.retune(second, keep_state=True):
                 run = start

@@ -20,7 +20,7 @@ import numpy as np
 
 import physics
 
-from . import controls, edits, output, presets, words
+from . import challenge, controls, edits, output, presets, words
 from . import frame as frames
 from .actions import act, choices_of, system_actions, with_choices
 from .buffers import (
@@ -83,6 +83,7 @@ class Engine:
         self.plot_span = WHOLE_RUN
         self.mesh = mesh  # app.engine.mesh.BodyMesh drawn instead of the uniform shape, until a preset is loaded
         self.compare = None  # app.engine.compare.Comparison: a second run with one difference, on the same clock
+        self.challenge = None  # app.engine.challenge.Challenge: the braking challenge's attempt, when one runs
         name = "from file" if scenario is not None else preset
         if mesh is not None:
             name = f"mesh {mesh.name}"
@@ -123,6 +124,7 @@ class Engine:
     # ---- loading ---------------------------------------------------------------------------
     def _load(self, sc: physics.Scenario, name: str) -> None:
         run = physics.LiveRun(sc)  # raises ScenarioError before anything changes
+        challenge.stop(self)  # another scene ends a braking challenge's attempt
         self.guard.forget(sc, name)
         self.base = sc
         self.preset = name
@@ -334,6 +336,7 @@ class Engine:
 
     def _apply_values(self, pending: dict, sc: physics.Scenario | None = None) -> None:
         """Apply slider values; ``sc``: the scenario they make, when the screen has built it already."""
+        challenge.stop(self)  # a parameter changed: the race is no longer the level's
         changes = controls.merge_changes(self.changes, pending)
         if sc is None:
             sc = controls.apply_changes(self._chosen_base(), changes)  # ScenarioError leaves everything as it was
@@ -409,6 +412,7 @@ class Engine:
     def tick(self, wall_dt: float) -> Frame:
         """Apply pending changes, advance by warp * wall_dt (if playing) and return the frame."""
         self._apply_pending()
+        challenge.before_advance(self)  # a thruster not pressed again stops
         if self.playing:
             t0 = self.run.t
             wall = self.clock.frame_wall(wall_dt)
@@ -467,6 +471,9 @@ class Engine:
             self.trail.clear()  # the trail is the last turns alone: older samples are too far apart to join
             self._extend_trail(dense)
             self._record(thinned(dense, 1 if tr is not None else SAMPLES_PER_FRAME), trail_too=False)
+        if self.challenge is not None:  # stopped or out of time: the attempt ends
+            rows = self.plot.values()
+            challenge.after_advance(self, rows[rows[:, 0] > t0], self.run.t - t0)
 
     def turn_period(self) -> float:
         """Seconds the trail's point takes to go once round the cone, at the fastest (app.engine.trail)."""

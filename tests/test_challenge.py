@@ -1,0 +1,148 @@
+"""The braking challenge, headless (issue 25, point 2), through a tab's engine: the levels' optimal braking time
+T against seed 004's closed form written out here and against the full model's own run of the optimal law; a
+scripted player that fires the thruster most nearly opposite J w finishes within sqrt(3) T (the best body axis
+is at most arccos(1/sqrt 3) from -K, so |K| falls at least at b/sqrt 3); a player that does nothing never
+finishes; the score's arithmetic; bad input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import physics
+from app.engine import challenge
+from app.engine.engine import Engine
+
+DT = 0.05  # the players' reaction time (s): one decision per step
+
+
+def started(level: str, seed: int = 0) -> Engine:
+    eng = Engine()
+    eng.request("challenge", (level, seed))
+    eng._apply_pending()
+    assert eng.error == "" and eng.challenge is not None
+    return eng
+
+
+def play(eng: Engine, player) -> challenge.Challenge:
+    """Step the race DT at a time, the player deciding before each step, until it is over."""
+    ch = eng.challenge
+    for _ in range(int(challenge.LIMIT * ch.T / DT) + 10):
+        if ch.over:
+            break
+        fire = player(eng)
+        if fire is not None:
+            eng.request("thrust", fire)
+        eng._apply_pending()
+        challenge.before_advance(eng)
+        eng._advance(DT)
+    assert ch.over
+    return ch
+
+
+def scripted(eng: Engine) -> str:
+    body = eng.scenario.body
+    return challenge.best_thruster(np.array([body.A, body.B, body.C]) * eng.run.last.omega[0])
+
+
+def closed_form_T(sc: physics.Scenario, K0: float) -> float:
+    """Seed 004 eq. (11): |K|' = -b - lambda |K| reaches 0 at ln(1 + lambda K0 / b) / lambda (K0 / b without a
+    medium)."""
+    b = sc.control.b
+    lam = sc.medium.lambda_ if sc.medium is not None else 0.0
+    return K0 / b if lam == 0 else math.log1p(lam * K0 / b) / lam
+
+
+@pytest.mark.parametrize("level", challenge.LEVELS)
+def test_the_optimal_law_s_body_stops_at_the_closed_form_t(level):
+    eng = started(level)
+    ch = eng.challenge
+    assert ch.T == pytest.approx(closed_form_T(ch.optimal, ch.K0), rel=1e-12)
+    assert 10 < ch.T < 30  # a person's race
+    while eng.compare.run.status == "running" and eng.run.t < 2 * ch.T:
+        eng._advance(1.0)
+    assert eng.compare.run.status == "braked"
+    assert eng.compare.run.t == pytest.approx(ch.T, rel=1e-6)  # the full model's own stop
+
+
+@pytest.mark.parametrize("level", challenge.LEVELS)
+@pytest.mark.parametrize("seed", [0, 7])
+def test_a_scripted_player_stops_the_body_within_sqrt3_t(level, seed):
+    eng = started(level, seed)
+    ch = play(eng, scripted)
+    assert ch.finished_at is not None and not ch.out_of_time
+    assert ch.T < ch.finished_at <= math.sqrt(3) * ch.T, (ch.finished_at, ch.T)
+    assert ch.score == pytest.approx(ch.T / ch.finished_at, rel=1e-15)
+    assert not eng.playing and ch.thruster is None  # the attempt ended: paused, thruster off
+    rows = eng.plot_all.values()
+    before, after = rows[rows[:, 0] <= ch.finished_at], rows[rows[:, 0] > ch.finished_at]
+    assert before[-1, 2] >= challenge.FINISH * ch.K0 > after[0, 2]  # |K| crosses 1 % of its start there
+    assert "score T / T_you" in challenge.readout_md(eng)
+
+
+@pytest.mark.parametrize("level", challenge.LEVELS)
+def test_a_player_who_does_nothing_never_finishes(level):
+    eng = started(level)
+    ch = play(eng, lambda eng: None)
+    assert ch.out_of_time and ch.finished_at is None and ch.score is None
+    assert eng.run.last.K[0] > challenge.FINISH * ch.K0
+    assert eng.run.t >= challenge.LIMIT * ch.T
+    assert "out of time" in challenge.readout_md(eng)
+
+
+def test_the_finish_is_interpolated_between_samples_and_scored_t_over_it():
+    ch = challenge.Challenge.new("rigid", 0)
+    ch.K0, ch.T = 1.0, 1.5
+    ch.check(np.array([[0.0, 0, 1.0, 0], [1.0, 0, 0.5, 0]]))
+    assert ch.finished_at is None
+    ch.check(np.array([[2.0, 0, 0.005, 0]]))  # a row alone crossing: its own t
+    assert ch.finished_at == 2.0
+    ch = challenge.Challenge.new("rigid", 0)
+    ch.K0, ch.T = 1.0, 1.5
+    ch.check(np.array([[1.0, 0, 0.5, 0], [2.0, 0, 0.005, 0]]))
+    assert ch.finished_at == pytest.approx(1.0 + (0.5 - 0.01) / (0.5 - 0.005), rel=1e-15)
+    assert ch.score == pytest.approx(1.5 / ch.finished_at, rel=1e-15)
+
+
+def test_one_seed_gives_every_tab_the_same_start_and_seeds_differ():
+    a, b, c = started("mass", 42), started("mass", 42), started("mass", 43)
+    np.testing.assert_array_equal(a.run.last.omega, b.run.last.omega)
+    assert not np.allclose(a.run.last.omega, c.run.last.omega)
+    lo, hi = challenge.THETA0
+    assert all(lo <= challenge.start_angle(s) <= hi for s in range(200))
+
+
+def test_a_thruster_stops_when_not_pressed_again_and_the_attempt_resets_and_ends():
+    eng = started("rigid")
+    eng.request("thrust", "-e3")
+    eng._apply_pending()
+    assert eng.challenge.thruster == "-e3" and eng.scenario.control.law == "-e3"
+    challenge.before_advance(eng, now=eng.challenge.until + 1e-3)
+    assert eng.challenge.thruster is None and eng.scenario.control.b == 0.0
+    eng._advance(2.0)
+    eng.request("reset")
+    eng._apply_pending()
+    assert eng.run.t == 0.0 and eng.challenge is not None and eng.compare is not None
+    eng.request_value("body.A", 1.2)  # a parameter changed: no longer the level's race
+    eng._apply_pending()
+    assert eng.challenge is None and eng.compare is None and eng.error == ""
+
+
+@pytest.mark.parametrize("action, value, words", [
+    ("challenge", ("rigid", -1), "challenge seed -1 is not a whole number from 0 to 9999"),
+    ("challenge", ("rigid", 1e308), "challenge seed 1e+308"),
+    ("challenge", ("rigid", "nan"), "challenge seed 'nan'"),
+    ("challenge", ("spinning top", 0), "challenge level 'spinning top' is not one of rigid, medium, mass, prolate"),
+    ("challenge", "rigid", "challenge: 'rigid' is not (level, seed)"),
+    ("thrust", "+e4", "thrust '+e4': expected one of +e1, -e1, +e2, -e2, +e3, -e3 or off"),
+    ("thrust", "+e1", "thrust: no braking challenge is running"),
+])
+def test_bad_input_is_refused_in_words_and_the_scene_stays(action, value, words):
+    eng = Engine()
+    before = eng.scenario
+    eng.request(action, value)
+    eng._apply_pending()
+    assert words in eng.error
+    assert eng.scenario is before and eng.challenge is None
