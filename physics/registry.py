@@ -244,7 +244,9 @@ class System:
     when it returns ``y`` unchanged, the part starts at rest relative to the body.
     ``check_run(sc)`` raises ScenarioError before a run (any fidelity) for what only a run needs.
     ``braking_time(G, b, lam)``: the time a braking torque b brings |G| to zero against a medium lam, or None
-    when the system has no law for it. ``end_locked(sc)``: where its energy sink can lead, for
+    when the system has no law for it. ``torque_direction(sc, q, K)``: the inertial unit direction of its control
+    torque at attitude ``q`` and inertial momentum ``K`` (without it, the brake's -K/|K|; the moving mass's
+    thrusters are fixed in the body). ``end_locked(sc)``: where its energy sink can lead, for
     physics/systems/end_state.py: an ``EndLocked`` (which entries of its full model's state are the part's
     coordinates, varied to find the relative equilibrium, and which are their rates, zero there), or a sentence
     saying why its scene has no fixed end state (no dissipation); None: the system states no end state.
@@ -279,6 +281,7 @@ class System:
     start_part: Callable | None = None
     check_run: Callable[[Any], None] | None = None
     braking_time: Callable[[float, float, float], float] | None = None
+    torque_direction: Callable[[Any, Any, Any], Any] | None = None
     end_locked: Callable[[Any], Any] | None = None
     quantities: dict[str, tuple[str, str]] = field(default_factory=dict)
     quantity: Callable[[str], tuple[str, str] | None] = lambda name: None

@@ -72,11 +72,8 @@ def make_frame(run: physics.LiveRun, *, seq: int, applied: int, view: str, world
     K = run.momentum()
     w_in = rotate(q, last.omega[0])
     axis = rotate(q, E3)
-    torque = None  # the braking torque -b K/|K|, drawn at a fixed length: only its direction is needed
-    if run.b > 0 and not run.ended:
-        n = np.linalg.norm(K)
-        # from K, not from the torque: b = 1e-300 underflowed b K/|K| to a norm of 0 and the arrow to +-inf
-        torque = -K / n if n > 0 else None
+    # the control torque (the brake's -b K/|K|, a thruster's body axis), drawn at a fixed length: its direction
+    torque = run.torque_direction()
     if view == "body":
         turn = np.array([q[0], -q[1], -q[2], -q[3]])  # inertial -> body components
         body_wxyz = np.array([1.0, 0, 0, 0])

@@ -104,7 +104,8 @@ def entries(p: SceneParts) -> list[Entry]:
            Entry("omega", "arrow", (COLORS["omega"],), "omega: angular velocity"),
            Entry("e3", "arrow", (COLORS["axis"],), "e3: symmetry axis of the body")]
     if p.braking:
-        out.append(Entry("torque", "arrow", (COLORS["torque"],), "braking torque (against K)"))
+        out.append(Entry("torque", "arrow", (COLORS["torque"],),
+                         "control torque: the brake's (against K) or a thruster's"))
     out.append(Entry("merged", "arrow", (COLORS["axis"],), "\"K, omega, e3\": one label for aligned arrows"))
     out.append(Entry("axes", "line", AXIS_COLORS, "thin lines: body axes e1, e2, e3"))
     out.append(Entry("body", "solid", (COLORS["body"],), f"body drawn as {p.mesh} (its inertia: A, B, C)" if p.mesh

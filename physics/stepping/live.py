@@ -323,6 +323,19 @@ class LiveRun:
     def ended(self) -> bool:
         return self.status != RUNNING
 
+    def torque_direction(self) -> np.ndarray | None:
+        """The inertial unit direction of the control torque now (the brake's -K/|K|, or where the system's
+        ``torque_direction`` says: a thruster's body axis), None when none acts (b = 0, the run over, K = 0)."""
+        if self.b <= 0 or self.ended or not len(self.last):
+            return None
+        K = self.momentum()
+        hook = get_system(self.scenario.system).torque_direction
+        if hook is not None:
+            return hook(self.scenario, self.last.quat[0], K)
+        n = float(np.linalg.norm(K))
+        # from K, not from the torque: b = 1e-300 underflows b K/|K| to a norm of 0
+        return -K / n if n > 0 else None
+
     def remaining_braking_time(self) -> float:
         """Time left until |G| reaches zero under braking (the system's ``braking_time`` from the current |G|:
         the moving mass's seed 004 eq. (11), whose averaged G' = -b - lambda G gives it from |G| alone), inf

@@ -13,6 +13,7 @@ from importlib import resources
 import numpy as np
 
 from physics.core.errors import ScenarioError
+from physics.core.rotation import rotate
 from physics.registry import Param, System, Table, register_system
 from physics.scenario.initial import initial_G
 from physics.systems.end_state import EndLocked
@@ -20,7 +21,7 @@ from physics.systems.moving_mass import closed_model, models  # noqa: F401  (reg
 from physics.systems.moving_mass.accuracy import METHOD, auto_conditions, averaged_error_bound, choose
 from physics.systems.moving_mass.figure import ACTIONS, figure
 from physics.systems.moving_mass.models import quasi_static_displacement
-from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium, check_mass_state
+from physics.systems.moving_mass.params import THRUSTERS, Cavity, Control, Mass, Medium, check_mass_state
 from physics.systems.moving_mass.quantities import QUANTITIES
 from physics.systems.moving_mass.start import PART, STATE, start_part
 from physics.systems.moving_mass.validity import closed_form_available, thruster
@@ -72,6 +73,18 @@ def check_carrier(sc) -> None:
         share = ms.m * ms.rho * ms.rho / (1.0 - ms.m / sc.body.M)  # a product: inf, not OverflowError
         if not share < min(sc.body.A, sc.body.B):
             raise ScenarioError("mass.rho", ms.rho, "is too large: m rho^2/(1 - m/M) must be less than A and B")
+
+
+def torque_direction(sc, q, K):
+    """The control torque's inertial unit direction: a thruster's body axis turned by the attitude ``q``, else the
+    brake's -K/|K| (None at K = 0)."""
+    if thruster(sc):
+        i = THRUSTERS.index(sc.control.law)
+        axis = np.zeros(3)
+        axis[i // 2] = 1.0 if i % 2 == 0 else -1.0
+        return rotate(np.asarray(q, dtype=float), axis)
+    n = float(np.linalg.norm(K))
+    return -np.asarray(K, dtype=float) / n if n > 0 else None
 
 
 def braking_time(G: float, b: float, lam: float) -> float:
@@ -191,6 +204,7 @@ SYSTEM = register_system(System(
     check=check, conditions=auto_conditions, choose=choose, available=available, derived=derived,
     error_bounds=error_bounds, error_method=METHOD, edit=edit, values=values, amplitude=amplitude,
     parts={PART: STATE}, start_part=start_part, check_run=check_carrier, braking_time=braking_time,
+    torque_direction=torque_direction,
     end_locked=end_locked,
     quantities=QUANTITIES, initial_keys={"mass_state": "rest"}, figure=figure, actions=ACTIONS,
 ))
