@@ -7,7 +7,7 @@ nutation angle, so every tab given the same level and seed races from the same s
 student's |K| falls below FINISH of its start (the score is T / T_student, T the optimal law's closed-form braking
 time, seed 004 eq. (11), the medium included) or, out of time, at LIMIT T. A thruster fires from a press (a button
 or its key) until HOLD_S after the last one: viser's buttons repeat while held (10 times a second), the page's key
-script likewise.
+script likewise, so a thruster goes on HOLD_S after it is let go.
 """
 
 from __future__ import annotations
@@ -31,7 +31,9 @@ THRUSTERS = ("+e1", "-e1", "+e2", "-e2", "+e3", "-e3")  # physics' thruster laws
 KEYS = dict(zip(THRUSTERS, ("D", "A", "W", "S", "E", "Q"), strict=True))  # the page's keys (app.panel.challenge)
 FINISH = 0.01  # stopped: |K| below 1 % of its start
 LIMIT = 3.0  # out of time at 3 T: doing nothing in the medium takes ln(100) / lambda = 230 s, 14 T
-HOLD_S = 0.25  # a thruster fires until this long after its last press (held buttons repeat every 0.1 s)
+# a thruster fires until this long after its last press: held buttons repeat every 0.1 s, but a page busy drawing
+# (software WebGL) sends them up to 0.3 s apart, which at 0.25 s switched a held thruster off and on
+HOLD_S = 0.5
 SEEDS = 10_000  # a seed is a whole number in [0, SEEDS)
 THETA0 = (0.35, 1.1)  # the start's nutation angle (rad), drawn from the seed
 
@@ -225,7 +227,7 @@ def readout_md(eng) -> str:
     K = float(eng.run.last.K[0])
     K_opt = float(eng.compare.run.last.K[0]) if eng.compare is not None else math.nan
     lines = [f"**Braking challenge** · {ch.title}",
-             f"elapsed {t:.1f} s · optimal T = {ch.T:.1f} s · out of time at {LIMIT * ch.T:.0f} s",
+             f"elapsed {t:.1f} s · optimal T = {ch.T:.1f} s · time limit {LIMIT * ch.T:.0f} s",
              f"your |K| = {K:.3g} ({100 * K / ch.K0:.0f} % of its start) · the optimal law's |K| = {K_opt:.3g}"
              " kg m^2/s",
              "thruster: " + (f"{ch.thruster} (torque {ch.b:g} N m)" if ch.thruster else "off")]

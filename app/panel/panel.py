@@ -20,6 +20,7 @@ from ..handles import set_if_changed
 from ..replay.export import ReplayButton
 from ..share.panel import SharePanel
 from . import plots
+from .challenge_panel import ChallengePanel
 from .compare_panel import ComparePanel
 from .compare_plots import ComparePlots
 from .control_notes import NotePlace
@@ -142,6 +143,7 @@ class Panel:
             with gui.add_folder(title):  # an action in a folder the panel does not have: a folder of its own
                 self._add_actions(title)
         self.compare = ComparePanel(gui, eng)  # the Compare folder: a second run with one difference
+        self.challenge = ChallengePanel(gui, eng)  # the braking challenge: thrusters against the optimal law
         with gui.add_folder("File", expand_by_default=False):
             self.toml_btn = gui.add_button("Download scenario (TOML)")
             self.csv_btn = gui.add_button("Download trajectory (CSV)")
@@ -332,6 +334,7 @@ class Panel:
         if plots_now:
             self._sync_preset()  # "(edited)" after a slider change, which does not resync the panel
             self.compare.sync()  # "off" when a new scene could not take the difference
+            self.challenge.update()  # the race in words
         set_if_changed(self.badge_md, "content", eng.badge())  # cached: computed once per scenario, off this thread
         self._sync_choices()  # follow the dropdowns, an upload, an undo, a system change
         for key, value in eng.guard.take_revert().items():  # a rejected value's slider shows the last good one

@@ -1,0 +1,127 @@
+"""The Braking challenge folder of one tab's panel (issue 25, point 2): a level and a seed, Start, six thruster
+buttons that fire while held, their keys, End, and the race in words. Callbacks only queue the engine's
+"challenge" and "thrust" actions (app.engine.challenge); the optimal law's body is compare mode's second body.
+
+A held key fires as a held button does: the page script below turns a key's press and release into the
+button's pointer press and release, so that viser's client repeats the button's hold message (10 a second)
+until the key is let go. Keys typed into a text box are left alone, and a page that loses focus lets go.
+"""
+
+from __future__ import annotations
+
+import json
+
+from ..engine import challenge
+
+HOLD_HZ = 10.0  # viser's client repeats a held button's message this often; the engine's HOLD_S spans 5 of them
+START, END = "Start the challenge", "End the challenge"
+INTRO = ("Stop the spinning body with thrusters of torque b along its axes e1, e2, e3, faster than the time-optimal "
+         "law -b K/|K| whose body runs beside yours (seed 004). Hold a button or its key (it fires until half a "
+         "second after). The score is T / T_you "
+         "when your |K| falls below 1 % of its start; the same level and seed give everyone the same start.")
+
+
+def button_label(thruster: str) -> str:
+    return f"{thruster} · key {challenge.KEYS[thruster]}"
+
+
+KEYS_LINE = ("keys during a race: " + " · ".join(f"**{challenge.KEYS[t]}** {t}" for t in challenge.THRUSTERS)
+             + " (otherwise they move the camera, as in viser)")
+
+
+class ChallengePanel:
+    """Widgets in a "Braking challenge" folder, for one tab's ``engine``."""
+
+    def __init__(self, gui, engine):
+        self.engine = engine
+        self.titles = {challenge.level_title(level): level for level in challenge.LEVELS}
+        with gui.add_folder("Braking challenge", expand_by_default=False):
+            gui.add_markdown(INTRO)
+            self.level = gui.add_dropdown("level", list(self.titles), initial_value=next(iter(self.titles)),
+                                          hint="the rigid body; with the medium; with the moving mass (nutation "
+                                               "makes aiming hard); a prolate body")
+            self.seed = gui.add_number("seed", 0, min=0, max=challenge.SEEDS - 1, step=1,
+                                       hint="picks the start's nutation angle: the same seed, the same start")
+            self.start = gui.add_button(START, hint="loads the level's scene from t = 0, in real time")
+            self.race_md = gui.add_markdown("")  # above the buttons: in sight while a student aims
+            self.keys_md = gui.add_markdown(KEYS_LINE)
+            self.thrusters = {}
+            for t in challenge.THRUSTERS:
+                button = gui.add_button(button_label(t), hint=f"fires a torque b along {t} of the body while held")
+                button.on_hold(self._fire(t), callback_hz=HOLD_HZ)
+                button.on_click(self._fire(t))  # Enter or Space on a focused button: one press
+                self.thrusters[t] = button
+            self.end = gui.add_button(END, hint="ends the attempt; the scene stays")
+
+        @self.start.on_click
+        def _(_event):
+            level = self.titles.get(self.level.value)
+            if level is None:
+                engine.error = (f"level: {str(self.level.value)[:40]!r} refused; expected one of "
+                                + ", ".join(self.titles))
+                return
+            engine.request("challenge", (level, self.seed.value))
+
+        @self.end.on_click
+        def _(_event):
+            engine.request("challenge", "off")
+
+    def _fire(self, thruster: str):
+        def fire(_event):
+            self.engine.request("thrust", thruster)
+        return fire
+
+    def update(self) -> None:
+        """The race in words (empty without an attempt)."""
+        md = challenge.readout_md(self.engine)
+        if self.race_md.content != md:
+            self.race_md.content = md
+
+
+_KEYS_JS = json.dumps({challenge.KEYS[t].lower(): button_label(t) for t in challenge.THRUSTERS})
+PAGE_SCRIPT = (b"""<script>/* Quasirigid (app/panel/challenge_panel.py): a held key holds its thruster's button */
+(function () {
+  var keys = KEYS_JS, held = {};
+  function button(label) {
+    var all = document.querySelectorAll("button");
+    for (var i = 0; i < all.length; i++) if (all[i].textContent.trim() === label) return all[i];
+    return null;
+  }
+  function typing(e) {
+    var t = e.target, tag = t && t.tagName;
+    return tag === "INPUT" || tag === "TEXTAREA" || tag === "SELECT" || (t && t.isContentEditable);
+  }
+  function send(b, type) {
+    b.dispatchEvent(new PointerEvent(type, {bubbles: true, cancelable: true, button: 0, pointerId: 7,
+                                            pointerType: "mouse", isPrimary: true}));
+  }
+  function racing() {  /* the race's words are on the page and it is not over: the keys are the thrusters' */
+    var ps = document.querySelectorAll("p");
+    for (var i = 0; i < ps.length; i++) {
+      var t = ps[i].textContent;
+      if (t.indexOf("Braking challenge \\u00b7") !== 0) continue;
+      return t.indexOf("score T / T_you") < 0 && t.indexOf("out of time:") < 0;
+    }
+    return false;
+  }
+  function release(k) { var b = held[k]; delete held[k]; if (b) send(b, "pointerup"); }
+  /* on the window, capturing: before viser's camera, which moves on the same keys (W A S D Q E) */
+  window.addEventListener("keydown", function (e) {
+    var k = (e.key || "").toLowerCase();
+    if (!(k in keys) || e.ctrlKey || e.metaKey || e.altKey || typing(e)) return;
+    if (!held[k] && !racing()) return;  /* no race: the camera's keys as usual */
+    e.preventDefault();
+    e.stopPropagation();
+    if (e.repeat || held[k]) return;
+    var b = button(keys[k]);
+    if (!b || b.disabled) return;
+    held[k] = b;
+    send(b, "pointerdown");
+  }, true);
+  window.addEventListener("keyup", function (e) {
+    var k = (e.key || "").toLowerCase();
+    if (held[k]) { e.stopPropagation(); release(k); }
+  }, true);
+  window.addEventListener("blur", function () { for (var k in held) release(k); });
+})();
+</script>""").replace(b"KEYS_JS", _KEYS_JS.encode())
