@@ -50,7 +50,7 @@ from physics.systems.derived import derived
 from physics.systems.end_state import EndLocked, EndState, NoEndState, end_state
 from physics.systems.moving_mass import closed
 from physics.systems.moving_mass.coefficients import Coefficients, coefficients
-from physics.systems.moving_mass.params import Cavity, Control, Mass, Medium
+from physics.systems.moving_mass.params import THRUSTERS, Cavity, Control, Mass, Medium, with_thruster
 from physics.systems.moving_mass.validity import averaged_conditions
 from physics.systems.pendulum.geometry import resolved_stiffness
 from physics.systems.pendulum.params import PIVOTS
@@ -68,6 +68,7 @@ __all__ = [
     "rotate",
     "rotation_matrix",
     "simulate", "validity_conditions", "WorkPrecision", "WorkPrecisionRow", "work_precision",
+    "THRUSTERS", "with_thruster",
 ]
 
 load_builtin()  # every system folder registers its system and models

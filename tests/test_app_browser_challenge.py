@@ -43,7 +43,7 @@ def test_a_student_holds_a_key_and_the_thruster_fires_until_it_is_let_go(page, a
     page.get_by_text("Braking challenge", exact=True).click()
     assert "keys during a race: D +e1 · A -e1" in page.evaluate("() => document.body.innerText")
     click(page, "Start the challenge")
-    wait_until(page, lambda: "A rigid body · seed 0" in race(page) and "thruster: off" in race(page),
+    wait_until(page, lambda: "A rigid body · start 0" in race(page) and "thruster: off" in race(page),
                "the race's words")
     eng = session(app).engine
     camera = session(app).client.camera

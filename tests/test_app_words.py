@@ -43,7 +43,10 @@ class _Handle:
 
     def __getattr__(self, name):  # visible, disabled, min, max...: unset until the panel sets them
         if name.startswith("on_"):
-            return self.callbacks.append
+            def register(cb, **_options):  # on_hold's callback_hz too
+                self.callbacks.append(cb)
+                return cb
+            return register
         return None
 
     def __enter__(self):

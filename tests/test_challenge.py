@@ -107,7 +107,7 @@ def test_the_finish_is_interpolated_between_samples_and_scored_t_over_it():
 
 
 def test_one_seed_gives_every_tab_the_same_start_and_seeds_differ():
-    a, b, c = started("mass", 42), started("mass", 42), started("mass", 43)
+    a, b, c = started("with_mass", 42), started("with_mass", 42), started("with_mass", 43)
     np.testing.assert_array_equal(a.run.last.omega, b.run.last.omega)
     assert not np.allclose(a.run.last.omega, c.run.last.omega)
     lo, hi = challenge.THETA0
@@ -131,10 +131,11 @@ def test_a_thruster_stops_when_not_pressed_again_and_the_attempt_resets_and_ends
 
 
 @pytest.mark.parametrize("action, value, words", [
-    ("challenge", ("rigid", -1), "challenge seed -1 is not a whole number from 0 to 9999"),
-    ("challenge", ("rigid", 1e308), "challenge seed 1e+308"),
-    ("challenge", ("rigid", "nan"), "challenge seed 'nan'"),
-    ("challenge", ("spinning top", 0), "challenge level 'spinning top' is not one of rigid, medium, mass, prolate"),
+    ("challenge", ("rigid", -1), "challenge start number -1 is not a whole number from 0 to 9999"),
+    ("challenge", ("rigid", 1e308), "challenge start number 1e+308"),
+    ("challenge", ("rigid", "nan"), "challenge start number 'nan'"),
+    ("challenge", ("spinning top", 0),
+     "challenge level 'spinning top' is not one of rigid, in_medium, with_mass, prolate"),
     ("challenge", "rigid", "challenge: 'rigid' is not (level, seed)"),
     ("thrust", "+e4", "thrust '+e4': expected one of +e1, -e1, +e2, -e2, +e3, -e3 or off"),
     ("thrust", "+e1", "thrust: no braking challenge is running"),

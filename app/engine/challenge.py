@@ -12,7 +12,6 @@ script likewise, so a thruster goes on HOLD_S after it is let go.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -25,9 +24,9 @@ import physics
 from .compare import CHALLENGE, Comparison, Difference
 
 LEVELS_DIR = Path(__file__).resolve().parents[2] / "assets" / "challenge"
-LEVELS = ("rigid", "medium", "mass", "prolate")  # in the order a class climbs them
+LEVELS = ("rigid", "in_medium", "with_mass", "prolate")  # in the order a class climbs them
 TITLE_LINE = "# challenge: "
-THRUSTERS = ("+e1", "-e1", "+e2", "-e2", "+e3", "-e3")  # physics' thruster laws, one per button
+THRUSTERS = physics.THRUSTERS  # one button each
 KEYS = dict(zip(THRUSTERS, ("D", "A", "W", "S", "E", "Q"), strict=True))  # the page's keys (app.panel.challenge)
 FINISH = 0.01  # stopped: |K| below 1 % of its start
 LIMIT = 3.0  # out of time at 3 T: doing nothing in the medium takes ln(100) / lambda = 230 s, 14 T
@@ -56,7 +55,7 @@ def _seed(seed) -> int:
     except (TypeError, ValueError):
         s = math.nan
     if not (math.isfinite(s) and s == int(s) and 0 <= s < SEEDS):
-        raise ValueError(f"challenge seed {seed!r} is not a whole number from 0 to {SEEDS - 1}")
+        raise ValueError(f"challenge start number {seed!r} is not a whole number from 0 to {SEEDS - 1}")
     return int(s)
 
 
@@ -93,18 +92,16 @@ class Challenge:
         base = physics.Scenario.load(LEVELS_DIR / f"{_level(level)}.toml")
         sc = base.with_values(**{"initial.theta0": start_angle(seed)})
         T = float(physics.derived(sc)["T"])
-        return cls(level=level, seed=_seed(seed), optimal=sc, T=T, b=float(sc.control.b))
+        return cls(level=level, seed=_seed(seed), optimal=sc, T=T, b=float(physics.brake_and_medium(sc)[0]))
 
     @property
     def title(self) -> str:
-        return f"{level_title(self.level)} · seed {self.seed}"
+        return f"{level_title(self.level)} · start {self.seed}"
 
     def student(self, thruster: str | None) -> physics.Scenario:
         """The student's scene: the level's with ``thruster`` firing (torque b along it), or none: b = 0 under the
         level's own law, so that the b slider, after the attempt, brakes as it does in any scene."""
-        law = thruster or self.optimal.control.law
-        return self.optimal.replace(control=dataclasses.replace(self.optimal.control, b=self.b if thruster else 0.0,
-                                                                law=law))
+        return physics.with_thruster(self.optimal, thruster, self.b)
 
     @property
     def over(self) -> bool:

@@ -1,5 +1,5 @@
-"""The Braking challenge folder of one tab's panel (issue 25, point 2): a level and a seed, Start, six thruster
-buttons that fire while held, their keys, End, and the race in words. Callbacks only queue the engine's
+"""The Braking challenge folder of one tab's panel (issue 25, point 2): a level and a start number (a seed), Start,
+six thruster buttons that fire while held, their keys, End, and the race in words. Callbacks only queue the engine's
 "challenge" and "thrust" actions (app.engine.challenge); the optimal law's body is compare mode's second body.
 
 A held key fires as a held button does: the page script below turns a key's press and release into the
@@ -16,9 +16,9 @@ from ..engine import challenge
 HOLD_HZ = 10.0  # viser's client repeats a held button's message this often; the engine's HOLD_S spans 5 of them
 START, END = "Start the challenge", "End the challenge"
 INTRO = ("Stop the spinning body with thrusters of torque b along its axes e1, e2, e3, faster than the time-optimal "
-         "law -b K/|K| whose body runs beside yours (seed 004). Hold a button or its key (it fires until half a "
-         "second after). The score is T / T_you "
-         "when your |K| falls below 1 % of its start; the same level and seed give everyone the same start.")
+         "law -b K/|K| (Zinkevich et al.) whose body runs beside yours. Hold a button or its key (it fires until "
+         "half a second after). The score is T / T_you when your |K| falls below 1 % of its start; the same level "
+         "and start number give everyone the same start.")
 
 
 def button_label(thruster: str) -> str:
@@ -40,8 +40,8 @@ class ChallengePanel:
             self.level = gui.add_dropdown("level", list(self.titles), initial_value=next(iter(self.titles)),
                                           hint="the rigid body; with the medium; with the moving mass (nutation "
                                                "makes aiming hard); a prolate body")
-            self.seed = gui.add_number("seed", 0, min=0, max=challenge.SEEDS - 1, step=1,
-                                       hint="picks the start's nutation angle: the same seed, the same start")
+            self.seed = gui.add_number("start number", 0, min=0, max=challenge.SEEDS - 1, step=1,
+                                       hint="picks the start's nutation angle: the same number, the same start")
             self.start = gui.add_button(START, hint="loads the level's scene from t = 0, in real time")
             self.race_md = gui.add_markdown("")  # above the buttons: in sight while a student aims
             self.keys_md = gui.add_markdown(KEYS_LINE)

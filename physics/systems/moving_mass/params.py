@@ -86,6 +86,17 @@ class Medium:
         object.__setattr__(self, "lambda_", nonneg("medium.lambda", self.lambda_))
 
 
+def with_thruster(sc, thruster: str | None, b: float):
+    """``sc`` with the thruster ``thruster`` (one of THRUSTERS) firing a torque ``b`` (N m), or none: the control's
+    torque 0 under a brake's law (the scene's, else "K"), so that a b set later brakes as in any scene. The braking
+    challenge's student switches with it (app.engine.challenge)."""
+    if thruster is not None:
+        _choice("control.law", thruster, THRUSTERS)
+        return sc.replace(control=Control(b=b, law=thruster))
+    law = sc.control.law if sc.control is not None and sc.control.law in LAWS else LAWS[0]
+    return sc.replace(control=Control(b=0.0, law=law))
+
+
 @dataclass(frozen=True)
 class Control:
     """Time-optimal braking torque -b G/|G| (seed 004 eq. (8)); b in N m. ``law`` says which G:
