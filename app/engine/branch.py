@@ -32,6 +32,9 @@ def branch(src: Engine) -> Engine:
         memo = {id(lock): threading.Lock()} if lock is not None else {}
         setattr(eng, name, copy.deepcopy(value, memo))
     eng.clock.warp = src.warp
+    race = getattr(src, "challenge", None)  # not carried: the class's race is the lecturer's
+    if race is not None and race.thruster is not None:  # nor a thruster the lecturer holds at this moment
+        eng.run.retune(race.student(None), keep_state=True)
     eng.guard.forget(eng.scenario, eng.preset)  # undo starts here: the class's edits are not the student's
     eng.scene_changed = eng.sliders_changed = eng.plots_changed = True
     eng.prediction.restart()

@@ -10,6 +10,8 @@ until the key is let go. Keys typed into a text box are left alone, and a page t
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
+from dataclasses import dataclass
 
 from ..engine import challenge
 
@@ -29,19 +31,40 @@ KEYS_LINE = ("keys during a race: " + " · ".join(f"**{challenge.KEYS[t]}** {t}"
              + " (otherwise they move the camera, as in viser)")
 
 
-class ChallengePanel:
-    """Widgets in a "Braking challenge" folder, for one tab's ``engine``."""
+@dataclass(frozen=True)
+class ClassChallenge:
+    """What a class shares with a tab's folder (app.serve.scoreboard): ``choice()`` the level and start number the
+    lecturer last raced (None before), which a student's folder starts from; ``chose(level, start)``, the lecturer's
+    Start; ``post(name, title, score, seconds)``, a student's attempt that stopped; ``board()``, the scores in words
+    for the lecturer's tab."""
 
-    def __init__(self, gui, engine):
+    choice: Callable[[], tuple[str, int] | None]
+    chose: Callable[[str, int], None] | None = None
+    post: Callable[..., None] | None = None
+    board: Callable[[], str] | None = None
+
+
+class ChallengePanel:
+    """Widgets in a "Braking challenge" folder, for one tab's ``engine``; ``klass``: the class's side, in class
+    mode."""
+
+    def __init__(self, gui, engine, klass: ClassChallenge | None = None):
         self.engine = engine
+        self.klass = klass
+        self._posted = None  # the attempt whose score went to the class
         self.titles = {challenge.level_title(level): level for level in challenge.LEVELS}
+        level, seed = (klass.choice() if klass is not None else None) or (challenge.LEVELS[0], 0)
         with gui.add_folder("Braking challenge", expand_by_default=False):
             gui.add_markdown(INTRO)
-            self.level = gui.add_dropdown("level", list(self.titles), initial_value=next(iter(self.titles)),
+            self.level = gui.add_dropdown("level", list(self.titles), initial_value=challenge.level_title(level),
                                           hint="the rigid body; with the medium; with the moving mass (nutation "
                                                "makes aiming hard); a prolate body")
-            self.seed = gui.add_number("start number", 0, min=0, max=challenge.SEEDS - 1, step=1,
+            self.seed = gui.add_number("start number", initial_value=seed, min=0, max=challenge.SEEDS - 1, step=1,
                                        hint="picks the start's nutation angle: the same number, the same start")
+            self.name = None
+            if klass is not None and klass.post is not None:
+                self.name = gui.add_text("your name (optional)", initial_value="",
+                                         hint="shown beside your score in the lecturer's list of the class's scores")
             self.start = gui.add_button(START, hint="loads the level's scene from t = 0, in real time")
             self.race_md = gui.add_markdown("")  # above the buttons: in sight while a student aims
             self.keys_md = gui.add_markdown(KEYS_LINE)
@@ -52,6 +75,7 @@ class ChallengePanel:
                 button.on_click(self._fire(t))  # Enter or Space on a focused button: one press
                 self.thrusters[t] = button
             self.end = gui.add_button(END, hint="ends the attempt; the scene stays")
+            self.board_md = gui.add_markdown("") if klass is not None and klass.board is not None else None
 
         @self.start.on_click
         def _(_event):
@@ -60,7 +84,14 @@ class ChallengePanel:
                 engine.error = (f"level: {str(self.level.value)[:40]!r} refused; expected one of "
                                 + ", ".join(self.titles))
                 return
+            try:
+                challenge.start_angle(self.seed.value)  # refused here, before the class hears of it
+            except ValueError as exc:
+                engine.error = str(exc)
+                return
             engine.request("challenge", (level, self.seed.value))
+            if klass is not None and klass.chose is not None:  # the lecturer's race: the class's start
+                klass.chose(level, int(self.seed.value))
 
         @self.end.on_click
         def _(_event):
@@ -72,10 +103,21 @@ class ChallengePanel:
         return fire
 
     def update(self) -> None:
-        """The race in words (empty without an attempt)."""
+        """The race in words (empty without an attempt); in a class, a student's score posted once, the lecturer's
+        list of scores."""
         md = challenge.readout_md(self.engine)
         if self.race_md.content != md:
             self.race_md.content = md
+        ch, klass = self.engine.challenge, self.klass
+        if klass is None:
+            return
+        if klass.post is not None and ch is not None and ch.score is not None and self._posted is not ch:
+            self._posted = ch
+            klass.post(self.name.value if self.name is not None else "", ch.title, ch.score, ch.finished_at)
+        if self.board_md is not None:
+            board = klass.board()
+            if self.board_md.content != board:
+                self.board_md.content = board
 
 
 _KEYS_JS = json.dumps({challenge.KEYS[t].lower(): button_label(t) for t in challenge.THRUSTERS})

@@ -20,7 +20,7 @@ from ..handles import set_if_changed
 from ..replay.export import ReplayButton
 from ..share.panel import SharePanel
 from . import plots
-from .challenge_panel import ChallengePanel
+from .challenge_panel import ChallengePanel, ClassChallenge
 from .compare_panel import ComparePanel
 from .compare_plots import ComparePlots
 from .control_notes import NotePlace
@@ -36,9 +36,11 @@ ALL = "all"  # an item action's first option: the sliders edit every item
 class Panel:
     """The GUI of one browser tab."""
 
-    def __init__(self, client: viser.ClientHandle, engine: Engine, restore: bool = True, still: bool = True):
+    def __init__(self, client: viser.ClientHandle, engine: Engine, restore: bool = True, still: bool = True,
+                 klass: ClassChallenge | None = None):
         self.client = client
         self.engine = engine
+        self.klass = klass  # class mode's side of the braking challenge (app.serve.scoreboard), or None
         self.restore = restore  # whether the browser's last scene may replace the one the tab starts with
         self._build_gui()
         # a tab that runs its own scene from the start (not one carried on from the class's) honours the browser's
@@ -143,7 +145,7 @@ class Panel:
             with gui.add_folder(title):  # an action in a folder the panel does not have: a folder of its own
                 self._add_actions(title)
         self.compare = ComparePanel(gui, eng)  # the Compare folder: a second run with one difference
-        self.challenge = ChallengePanel(gui, eng)  # the braking challenge: thrusters against the optimal law
+        self.challenge = ChallengePanel(gui, eng, self.klass)  # the braking challenge: thrusters vs the optimal law
         with gui.add_folder("File", expand_by_default=False):
             self.toml_btn = gui.add_button("Download scenario (TOML)")
             self.csv_btn = gui.add_button("Download trajectory (CSV)")

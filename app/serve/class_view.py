@@ -229,13 +229,15 @@ class LecturerView:
 
     role = "lecturer"
 
-    def __init__(self, client: viser.ClientHandle, engine: Engine, shared: Shared, drawing: ClassDrawing):
+    def __init__(self, client: viser.ClientHandle, engine: Engine, shared: Shared, drawing: ClassDrawing,
+                 klass=None):
         from .upload_cap import cap_streamed_uploads
 
         self.client = client
         self.view = EngineView(engine, shared)
         self.drawing = drawing
-        self.panel = Panel(client, self.view, restore=False, still=False)  # a lecturer's reload never resets the class
+        # a lecturer's reload never resets the class; klass: the class's challenge, its start and scores
+        self.panel = Panel(client, self.view, restore=False, still=False, klass=klass)
         self.legend = LegendView(client.gui)
         cap_streamed_uploads(client.gui, self._refuse)
         screen_gui_updates(client.gui, self._refuse)

@@ -39,9 +39,11 @@ from ..engine.branch import branch
 from ..engine.clock import PLOT_HZ
 from ..engine.engine import Engine
 from ..engine.frame import non_finite
+from ..panel.challenge_panel import ClassChallenge
 from ..share.link import CLASS_KEY
 from .class_view import ClassDrawing, EngineView, FollowerView, LecturerView, Shared, show_class_scene, waiting_note
 from .pace import Pace
+from .scoreboard import Scoreboard
 from .session import CROWD_PLOT_HZ, Session
 
 KEY_BYTES = 16  # of randomness in the lecturer's key (secrets.token_urlsafe: 22 characters)
@@ -76,6 +78,7 @@ class ClassRoom:
         self.frames = 0
         self.first_frame_after: dict[int, float] = {}  # lecturer's change seq -> s until every view had its frame
         self.pace = Pace()
+        self.scoreboard = Scoreboard()  # the braking challenge: the lecturer's start, the students' scores
         self.stop = threading.Event()
         self.thread: threading.Thread | None = None
 
@@ -164,7 +167,9 @@ class ClassRoom:
         try:
             _clear(client)
             show_class_scene(client, False)
-            session = Session(self.server, client, None, self.stats, engine=engine)
+            board = self.scoreboard
+            session = Session(self.server, client, None, self.stats, engine=engine,
+                              klass=ClassChallenge(choice=board.choice, post=board.post))
             back = session.follow_button = client.gui.add_button(
                 FOLLOW, hint="leave your own run and follow the class run again",
                 order=session.panel.status_md.order - 1.0)  # above the status line
@@ -214,7 +219,10 @@ class ClassRoom:
             self.views.pop(cid, None)
         for client, role in joins:
             if role == "lecturer":
-                self.views[client.client_id] = LecturerView(client, self.engine, self.shared, self.drawing)
+                board = self.scoreboard
+                self.views[client.client_id] = LecturerView(
+                    client, self.engine, self.shared, self.drawing,
+                    ClassChallenge(choice=board.choice, chose=board.choose, board=board.markdown))
             else:
                 self.views[client.client_id] = FollowerView(client, self.engine, self.shared, self.drawing,
                                                             lambda c=client: self.explore(c))

@@ -30,7 +30,7 @@ class Session:
     """One browser tab."""
 
     def __init__(self, server: viser.ViserServer, client: viser.ClientHandle, scenario: physics.Scenario | None,
-                 stats: dict, mesh=None, engine: Engine | None = None):
+                 stats: dict, mesh=None, engine: Engine | None = None, klass=None):
         self.server = server
         self.client = client
         self.stats = stats
@@ -48,7 +48,7 @@ class Session:
         self.pace = Pace()  # how often to publish, from what a frame costs and how many tabs there are
         # a server started on a scenario or mesh of its own shows that, not the browser's last scene
         self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None and engine is None,
-                           still=engine is None)
+                           still=engine is None, klass=klass)  # klass: a class's challenge (app.serve.scoreboard)
         cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
         screen_gui_updates(client.gui, self._refuse_value)  # a value that does not fit its control never reaches viser
         self.drawing = Drawing(client, self.engine)
