@@ -7,6 +7,7 @@ finishes; the score's arithmetic; bad input."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -80,6 +81,18 @@ def test_a_scripted_player_stops_the_body_within_sqrt3_t(level, seed):
     before, after = rows[rows[:, 0] <= ch.finished_at], rows[rows[:, 0] > ch.finished_at]
     assert before[-1, 2] >= challenge.FINISH * ch.K0 > after[0, 2]  # |K| crosses 1 % of its start there
     assert "score T / T_you" in challenge.readout_md(eng)
+
+
+def test_the_race_s_words_give_k_in_the_body_s_axes():
+    """K's body components, against the full model's own body-frame momentum: J w for a rigid body."""
+    eng = started("rigid", 3)
+    eng._advance(2.0)
+    body = eng.scenario.body
+    G = np.array([body.A, body.B, body.C]) * eng.run.last.omega[0]
+    np.testing.assert_allclose(challenge.K_in_body(eng), G / np.linalg.norm(G), atol=1e-12)
+    words = challenge.readout_md(eng)
+    shown = [float(x) for x in re.findall(r"e\d ([+-]\d\.\d\d)", words)]
+    np.testing.assert_allclose(shown, G / np.linalg.norm(G), atol=0.006)
 
 
 @pytest.mark.parametrize("level", challenge.LEVELS)

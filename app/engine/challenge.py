@@ -215,6 +215,20 @@ def after_advance(eng, rows: np.ndarray, dt: float) -> None:
         eng.playing = False
 
 
+def K_in_body(eng) -> np.ndarray:
+    """The student's K in their body's axes, as a fraction of |K| (what the momentum sphere draws)."""
+    K = eng.run.momentum()
+    n = float(np.linalg.norm(K))
+    q = eng.run.last.quat[0]
+    return physics.rotate(physics.qconj(q), K) / n if n > 0 else np.zeros(3)
+
+
+def aim_words(eng) -> str:
+    """K's body components in words ("e1 +0.31 · e2 -0.12 · e3 +0.94"): a thruster against the largest brakes
+    best, and nutation turns them while the student aims."""
+    return " · ".join(f"e{i + 1} {x:+.2f}" for i, x in enumerate(K_in_body(eng)))
+
+
 def readout_md(eng) -> str:
     """The race in words: the level, the clock, both |K|, the optimal T, and the score once stopped."""
     ch = eng.challenge
@@ -227,6 +241,7 @@ def readout_md(eng) -> str:
              f"elapsed {t:.1f} s · optimal T = {ch.T:.1f} s · time limit {LIMIT * ch.T:.0f} s",
              f"your |K| = {K:.3g} ({100 * K / ch.K0:.0f} % of its start) · the optimal law's |K| = {K_opt:.3g}"
              " kg m^2/s",
+             "K along your body's axes: " + aim_words(eng),
              "thruster: " + (f"{ch.thruster} (torque {ch.b:g} N m)" if ch.thruster else "off")]
     if ch.score is not None:
         lines.append(f"**stopped in {ch.finished_at:.2f} s · score T / T_you = {ch.score:.2f}**")
