@@ -28,24 +28,12 @@ def started(level: str, seed: int = 0) -> Engine:
 
 
 def play(eng: Engine, player) -> challenge.Challenge:
-    """Step the race DT at a time, the player deciding before each step, until it is over."""
-    ch = eng.challenge
-    for _ in range(int(challenge.LIMIT * ch.T / DT) + 10):
-        if ch.over:
-            break
-        fire = player(eng)
-        if fire is not None:
-            eng.request("thrust", fire)
-        eng._apply_pending()
-        challenge.before_advance(eng)
-        eng._advance(DT)
+    ch = challenge.play(eng, player, DT)
     assert ch.over
     return ch
 
 
-def scripted(eng: Engine) -> str:
-    body = eng.scenario.body
-    return challenge.best_thruster(np.array([body.A, body.B, body.C]) * eng.run.last.omega[0])
+scripted = challenge.scripted
 
 
 def closed_form_T(sc: physics.Scenario, K0: float) -> float:
@@ -141,6 +129,21 @@ def test_a_thruster_stops_when_not_pressed_again_and_the_attempt_resets_and_ends
     eng.request_value("body.A", 1.2)  # a parameter changed: no longer the level's race
     eng._apply_pending()
     assert eng.challenge is None and eng.compare is None and eng.error == ""
+
+
+def test_let_go_stops_the_thruster_at_once_and_a_repeat_sent_before_it_is_dropped():
+    eng = started("rigid")
+    eng.request("thrust", "+e2")
+    eng._apply_pending()
+    assert eng.challenge.thruster == "+e2"
+    eng.request("thrust", "off")  # the page's Thrusters off, clicked as the key is let go
+    eng.request("thrust", "+e2")  # a hold message the thread pool handled after it
+    eng._apply_pending()
+    assert eng.challenge.thruster is None and eng.scenario.control.b == 0.0
+    eng.challenge.released = ("+e2", eng.challenge.released[1] - challenge.RELEASE_GRACE_S)
+    eng.request("thrust", "+e2")  # pressed again later: fires
+    eng._apply_pending()
+    assert eng.challenge.thruster == "+e2"
 
 
 @pytest.mark.parametrize("action, value, words", [

@@ -6,8 +6,8 @@ A level is a scenario in assets/challenge whose first line is ``# challenge: TIT
 nutation angle, so every tab given the same level and seed races from the same start. The attempt ends when the
 student's |K| falls below FINISH of its start (the score is T / T_student, T the optimal law's closed-form braking
 time, seed 004 eq. (11), the medium included) or, out of time, at LIMIT T. A thruster fires from a press (a button
-or its key) until HOLD_S after the last one: viser's buttons repeat while held (10 times a second), the page's key
-script likewise, so a thruster goes on HOLD_S after it is let go.
+or its key) until it is let go (the page then clicks Thrusters off), or HOLD_S after the last press if that word
+is lost: viser's buttons repeat while held (10 times a second), the page's key script likewise.
 """
 
 from __future__ import annotations
@@ -33,6 +33,9 @@ LIMIT = 3.0  # out of time at 3 T: doing nothing in the medium takes ln(100) / l
 # a thruster fires until this long after its last press: held buttons repeat every 0.1 s, but a page busy drawing
 # (software WebGL) sends them up to 0.3 s apart, which at 0.25 s switched a held thruster off and on
 HOLD_S = 0.5
+# the page says "off" when a key or button is let go (the Thrusters off button, clicked by its script): a repeat of
+# the same thruster handled within this after it was sent before it, and is dropped
+RELEASE_GRACE_S = 0.2
 SEEDS = 10_000  # a seed is a whole number in [0, SEEDS)
 THETA0 = (0.35, 1.1)  # the start's nutation angle (rad), drawn from the seed
 
@@ -71,6 +74,31 @@ def best_thruster(G_body: np.ndarray) -> str:
     return ("-" if G_body[i] > 0 else "+") + f"e{i + 1}"
 
 
+def scripted(eng) -> str:
+    """The scripted player's pick: the thruster most nearly opposite the student's J w (body axes)."""
+    body = eng.scenario.body
+    return best_thruster(np.array([body.A, body.B, body.C]) * eng.run.last.omega[0])
+
+
+def play(eng, player, reaction_s: float) -> Challenge:
+    """Race the attempt ``eng`` runs to its end without a page: every ``reaction_s`` simulated seconds the
+    ``player(eng)`` names a thruster to hold (or None), as the loop would apply it. The benchmark's and the
+    tests' player (bench/challenge.py, tests/test_challenge.py)."""
+    ch = eng.challenge
+    if ch is None:
+        raise ValueError("play: no braking challenge is running")
+    for _ in range(int(LIMIT * ch.T / reaction_s) + 10):
+        if ch.over:
+            break
+        fire = player(eng)
+        if fire is not None:
+            eng.request("thrust", fire)
+        eng._apply_pending()
+        before_advance(eng, now=-math.inf if fire is not None else math.inf)  # held while named, else let go
+        eng._advance(reaction_s)
+    return ch
+
+
 @dataclass
 class Challenge:
     """One attempt: the level, the seed, the optimal law's scenario and braking time, and the race's state."""
@@ -86,6 +114,7 @@ class Challenge:
     finished_at: float | None = None  # the simulated t at which |K| fell below FINISH K0
     out_of_time: bool = False
     fired: float = 0.0  # simulated seconds with a thruster on
+    released: tuple = (None, -math.inf)  # (thruster, time.monotonic()) of the last "off"
 
     @classmethod
     def new(cls, level: str, seed) -> Challenge:
@@ -182,8 +211,13 @@ def thrust(eng, value) -> None:
     if ch.over:
         return
     fire = None if value == "off" else value
-    if fire is not None:
-        ch.until = time.monotonic() + HOLD_S
+    now = time.monotonic()
+    if fire is None:
+        ch.released = (ch.thruster, now)
+    elif ch.released[0] == fire and now - ch.released[1] < RELEASE_GRACE_S:
+        return  # a repeat sent before the release, handled after it (viser runs callbacks in a thread pool)
+    else:
+        ch.until = now + HOLD_S
     if fire != ch.thruster:
         _switch(eng, ch, fire)
 

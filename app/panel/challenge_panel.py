@@ -16,10 +16,10 @@ from dataclasses import dataclass
 from ..engine import challenge
 
 HOLD_HZ = 10.0  # viser's client repeats a held button's message this often; the engine's HOLD_S spans 5 of them
-START, END = "Start the challenge", "End the challenge"
+START, END, OFF = "Start the challenge", "End the challenge", "Thrusters off"
 INTRO = ("Stop the spinning body with thrusters of torque b along its axes e1, e2, e3, faster than the time-optimal "
-         "law -b K/|K| (Zinkevich et al.) whose body runs beside yours. Hold a button or its key (it fires until "
-         "half a second after). The score is T / T_you when your |K| falls below 1 % of its start; the same level "
+         "law -b K/|K| (Zinkevich et al.) whose body runs beside yours. Hold a button or its key; it stops when "
+         "you let go. The score is T / T_you when your |K| falls below 1 % of its start; the same level "
          "and start number give everyone the same start.")
 
 
@@ -74,6 +74,9 @@ class ChallengePanel:
                 button.on_hold(self._fire(t), callback_hz=HOLD_HZ)
                 button.on_click(self._fire(t))  # Enter or Space on a focused button: one press
                 self.thrusters[t] = button
+            self.off = gui.add_button(OFF, hint="stops the thruster at once; letting go of a thruster's key or "
+                                                 "button presses this too")
+            self.off.on_click(lambda _event: engine.request("thrust", "off"))
             self.end = gui.add_button(END, hint="ends the attempt; the scene stays")
             self.board_md = gui.add_markdown("") if klass is not None and klass.board is not None else None
 
@@ -146,7 +149,14 @@ PAGE_SCRIPT = (b"""<script>/* Quasirigid (app/panel/challenge_panel.py): a held 
     }
     return false;
   }
-  function release(k) { var b = held[k]; delete held[k]; if (b) send(b, "pointerup"); }
+  function off() { var b = button("OFF_LABEL"); if (b) b.click(); }  /* "off" now, not after the hold's timeout */
+  function release(k) { var b = held[k]; delete held[k]; if (b) { send(b, "pointerup"); off(); } }
+  var labels = {};
+  for (var k in keys) labels[keys[k]] = true;
+  document.addEventListener("pointerup", function (e) {  /* a thruster's button let go by a mouse or a finger */
+    var b = e.isTrusted && e.target && e.target.closest ? e.target.closest("button") : null;
+    if (b && labels[b.textContent.trim()]) off();
+  }, true);
   /* on the window, capturing: before viser's camera, which moves on the same keys (W A S D Q E) */
   window.addEventListener("keydown", function (e) {
     var k = (e.key || "").toLowerCase();
@@ -166,4 +176,4 @@ PAGE_SCRIPT = (b"""<script>/* Quasirigid (app/panel/challenge_panel.py): a held 
   }, true);
   window.addEventListener("blur", function () { for (var k in held) release(k); });
 })();
-</script>""").replace(b"KEYS_JS", _KEYS_JS.encode())
+</script>""").replace(b"KEYS_JS", _KEYS_JS.encode()).replace(b"OFF_LABEL", OFF.encode())
