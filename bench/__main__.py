@@ -22,6 +22,7 @@ STUDIES = {
     "explorer-rates": ("explorer_rates", "frames per second, achieved warp and slider latency of the explorer"),
     "fidelity": ("fidelity", "cheaper fidelities' actual theta error against their stated estimate (issue 15)"),
     "corrections": ("corrections", "the evidence figures of docs/corrections.md, recomputed (issue 17)"),
+    "challenge": ("challenge", "the braking challenge's scripted player against the optimal law, every level"),
     "explorer-startup": ("explorer_startup", "time from `python -m app` to the scene drawn in chromium (--cold: "
                                              "first start)"),
 }

@@ -36,6 +36,7 @@ OPTIONS = {
     "explorer-rates": ["seconds", "--out", "--img", "--chart-only", "--compare"],
     "fidelity": ["--quick", "--n", "--seed", "--out", "--img", "--workers", "--system"],
     "corrections": ["--out"],
+    "challenge": ["--starts", "--reactions", "--out", "--img"],
     "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
 }
 

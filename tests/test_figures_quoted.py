@@ -37,6 +37,7 @@ LOAD = "bench/results/load_10x5.json"  # python -m bench load --clients 10 --min
 LOAD_SHORT = "bench/results/load_10x05.json"  # the same for 0.5 minutes, --warmup 8
 SOAK_RECONNECT = "bench/results/soak_3min_reconnect.json"  # soak --minutes 3 --churn 0 --reconnect 10 --warmup 30
 SOAK_PRESETS = "bench/results/soak_3min_presets.json"  # soak --minutes 3 --reconnect 0 --churn 5 --warmup 30
+CHALLENGE = "bench/results/challenge.csv"  # python -m bench challenge
 
 
 def rows(name: str) -> list[dict]:
@@ -569,6 +570,19 @@ FIGURES = [
      lambda: preset_eps("assets/scenarios/oblate_settling.toml")),
     ("docs/guide.md", r"while `E` falls from (\d\.\d) J towards", "default scene", lambda: default_scene_energy()[0]),
     ("docs/guide.md", r"towards `K²/2C` = (\d\.\d+) J", "default scene", lambda: default_scene_energy()[1]),
+    # docs/guide.md's braking challenge: python -m bench challenge
+    ("docs/guide.md", r"deciding every 0.25 s it stops the body in (\d\.\d+) to", CHALLENGE,
+     lambda: min(col(CHALLENGE, "ratio", reaction_s="0.25"))),
+    ("docs/guide.md", r"stops the body in \d\.\d+ to (\d\.\d+) T", CHALLENGE,
+     lambda: max(col(CHALLENGE, "ratio", reaction_s="0.25"))),
+    ("docs/guide.md", r"\(median (\d\.\d+) T, a score", CHALLENGE,
+     lambda: median(CHALLENGE, "ratio", reaction_s="0.25")),
+    ("docs/guide.md", r"a score of about (\d\.\d+)\)", CHALLENGE,
+     lambda: median(CHALLENGE, "score", reaction_s="0.25")),
+    ("docs/guide.md", r"deciding every 0.5 s, (\d+) of its \d+ races run out of time", CHALLENGE,
+     lambda: sum(not math.isfinite(x) for x in col(CHALLENGE, "ratio", reaction_s="0.5"))),
+    ("docs/guide.md", r"deciding every 0.5 s, \d+ of its (\d+) races", CHALLENGE,
+     lambda: len(col(CHALLENGE, "ratio", reaction_s="0.5"))),
 ]
 
 
