@@ -39,8 +39,16 @@ def share_of_start(pg) -> float:
     return float(m.group(1))
 
 
+def open_folder(pg) -> None:
+    """The Braking challenge folder open (a test run alone finds it closed)."""
+    if not pg.get_by_role("button", name="Start the challenge", exact=True).is_visible():
+        pg.get_by_text("Braking challenge", exact=True).click()
+        wait_until(pg, lambda: pg.get_by_role("button", name="Start the challenge", exact=True).is_visible(),
+                   "the folder open")
+
+
 def test_a_student_holds_a_key_and_the_thruster_fires_until_it_is_let_go(page, app):  # noqa: F811
-    page.get_by_text("Braking challenge", exact=True).click()
+    open_folder(page)
     assert "keys during a race: D +e1 · A -e1" in page.evaluate("() => document.body.innerText")
     click(page, "Start the challenge")
     wait_until(page, lambda: "A rigid body · start 0" in race(page) and "thruster: off" in race(page),
@@ -61,3 +69,52 @@ def test_a_student_holds_a_key_and_the_thruster_fires_until_it_is_let_go(page, a
     click(page, "End the challenge")
     wait_until(page, lambda: race(page) == "", "the race's words gone")
     assert eng.challenge is None
+
+
+AIM = re.compile(r"K along your body's axes: e1 ([+-]\d\.\d\d) · e2 ([+-]\d\.\d\d) · e3 ([+-]\d\.\d\d)")
+KEYS = {"+e1": "d", "-e1": "a", "+e2": "w", "-e2": "s", "+e3": "e", "-e3": "q"}
+
+
+def test_a_student_who_reads_k_off_the_page_stops_the_body_and_is_scored(page, app):  # noqa: F811
+    """A player with keys alone, as a student plays: K's body components read off the race's words, the key against
+    the largest held down, and switched when another component becomes the largest, until the body stops; the
+    page then shows the score T / T_you."""
+    open_folder(page)
+    click(page, "Start the challenge")
+    wait_until(page, lambda: race(page) != "", "a race (the last test ended its own)")
+    page.mouse.click(300, 450)
+    held = None
+    try:
+        for _ in range(2000):
+            words = race(page)
+            if "score T / T_you" in words or "out of time:" in words:
+                break
+            m = AIM.search(words)
+            if m:
+                K = [float(x) for x in m.groups()]
+                i = max(range(3), key=lambda j: abs(K[j]))
+                key = KEYS[("-" if K[i] > 0 else "+") + f"e{i + 1}"]
+                if share_of_start(page) < 8:  # near rest a held key overshoots: taps, each looked at
+                    if held is not None:
+                        page.keyboard.up(held)
+                        held = None
+                    page.keyboard.down(key)
+                    page.wait_for_timeout(60)
+                    page.keyboard.up(key)
+                    page.wait_for_timeout(600)
+                    continue
+                if key != held:
+                    if held is not None:
+                        page.keyboard.up(held)  # let go first: its Thrusters off would stop the next one too
+                    page.keyboard.down(key)
+                    held = key
+            page.wait_for_timeout(150)
+    finally:
+        if held is not None:
+            page.keyboard.up(held)
+    words = race(page)
+    m = re.search(r"stopped in (\d+\.\d\d) s · score T / T_you = (\d\.\d\d)", words)
+    assert m, words
+    T = float(re.search(r"optimal T = (\d+\.\d) s", words).group(1))
+    assert float(m.group(2)) == pytest.approx(T / float(m.group(1)), abs=0.01)  # both rounded as shown
+    assert session(app).engine.challenge.score == pytest.approx(float(m.group(2)), abs=0.005)
