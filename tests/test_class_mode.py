@@ -205,3 +205,19 @@ def test_python_m_app_class_prints_the_two_links():
     m = re.fullmatch(r"lecturer: (http://127\.0\.0\.1:\d+)/\?class=([A-Za-z0-9_-]{22,})", lecturer[0])
     assert m, lecturer[0]
     assert students[0] == f"students: {m.group(1)}/"  # the same server; no key
+
+
+def test_every_node_of_the_class_scene_hides_with_its_one_parent(klass):
+    """A student exploring hides the class scene in their tab with one update of CLASS_NODES: every node the class
+    drawing made (its light, grid, sphere, a compare run's second body) must sit under it, not beside it."""
+    from app.serve.class_view import CLASS_NODES
+
+    app, room, tabs = klass
+    tabs["lecturer"].send(gui_update(views(room, "lecturer")[0].panel.challenge.start, True))  # a race: compare on
+    wait_until(lambda: room.engine.challenge is not None and room.drawing.compare.nodes, what="the race drawn")
+    names = [n for n in list(app.server.scene._handle_from_node_name) if n.startswith("/sclass")]
+    (parent,) = CLASS_NODES
+    assert any("_cmp" in n for n in names) and any("_sphere" in n for n in names)
+    assert all(n == parent or n.startswith(parent + "/") for n in names), names
+    tabs["lecturer"].send(gui_update(views(room, "lecturer")[0].panel.challenge.end, True))
+    wait_until(lambda: room.engine.challenge is None, what="the race ended")

@@ -34,8 +34,12 @@ from ..scene.legend import LegendView
 from .message_guard import screen_gui_updates
 
 FLAGS = ("scene_changed", "sliders_changed", "plots_changed")
-CLASS_ID = "class"  # the class scene's root is /sclass (a tab's own is /s<client id>: app.scene.drawing)
-CLASS_NODES = (f"/s{CLASS_ID}", f"/s{CLASS_ID}_fill", f"/s{CLASS_ID}_grid")  # its root, light and grid
+# The class drawing's root is /sclass/all (a tab's own is /s<client id>: app.scene.drawing). Drawing names its light,
+# grid, momentum sphere and compare mode's second body as siblings of its root (root_fill, root_sphere,
+# root_cmp3...), so all of them sit under /sclass, a frame ClassDrawing makes first: hiding that one node hides the
+# whole class scene in a tab, the nodes made after the hiding too (a new race's second body).
+CLASS_ID = "class/all"
+CLASS_NODES = ("/sclass",)
 CAMERA = dict(position=(3.0, -3.4, 1.9), look_at=(0.0, 0.0, 0.3))  # as a tab of its own starts (Drawing)
 
 
@@ -177,6 +181,9 @@ class ClassDrawing(Drawing):
         self.client = _Everyone(server)
         self.engine = view
         self.legend = _Legend()
+        # the parent of every class node, made here as a real frame: an ancestor viser makes on its own is a
+        # "virtual anchor", which a tab's visibility update does not hide
+        self.parent = server.scene.add_frame(CLASS_NODES[0], show_axes=False)
         self._build_scene()
 
     @property
@@ -190,13 +197,14 @@ def place_camera(client: viser.ClientHandle) -> None:
 
 
 def show_class_scene(client: viser.ClientHandle, shown: bool) -> None:
-    """Show or hide the class's scene in this tab alone (a student exploring a run of their own draws theirs):
-    a visibility update of the shared nodes, sent to this tab's connection only."""
+    """Show or hide the class's scene in this tab alone (a student exploring a run of their own draws theirs): the
+    message a node's ``visible`` sends (SetSceneNodeVisibilityMessage; a SceneNodeUpdateMessage of "visible", sent
+    before, left the class's body drawn over the student's), for the broadcast variant of the shared nodes, sent to
+    this tab's connection only."""
     from viser import _messages
 
     for name in CLASS_NODES:
-        client._websock_connection.queue_message(
-            _messages.SceneNodeUpdateMessage(name=name, updates={"visible": shown}, owner=""))
+        client._websock_connection.queue_message(_messages.SetSceneNodeVisibilityMessage(name=name, visible=shown))
 
 
 class FollowerView:
