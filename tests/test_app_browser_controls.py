@@ -154,7 +154,7 @@ def test_a_closed_folder_opens_from_the_keyboard_and_its_controls_work(browser, 
         for name in ("Details", "Plots", "Playback", "Model", "Share", "File"):
             assert titles[name][:2] == [0, "button"], (name, titles)
         assert titles["File"][2] == "false" and titles["Plots"][2] == "true"  # closed and open, as shown
-        pg.locator("[data-qr-key]").filter(has_text=re.compile(r"^Compare$")).focus()  # the title above File's
+        pg.locator("[data-qr-key]").filter(has_text=re.compile(r"^Braking challenge$")).focus()  # the one above File
         assert tab_to(pg, "File", limit=5) == 1  # the next stop of Tab
         pg.keyboard.press("Enter")
         download = pg.get_by_role("button", name="Download scenario (TOML)", exact=True)
