@@ -146,6 +146,17 @@ def test_let_go_stops_the_thruster_at_once_and_a_repeat_sent_before_it_is_droppe
     assert eng.challenge.thruster == "+e2"
 
 
+def test_a_flood_of_thrusts_queues_a_bounded_few_and_the_latest_counts():
+    """A raw client's hold messages at any rate, alternating thrusters (each switch a retune): at most
+    PENDING_THRUSTS wait for the next tick, the latest kept."""
+    eng = started("rigid")
+    for i in range(10_000):
+        eng.request("thrust", "+e1" if i % 2 else "-e1")
+    assert sum(a == "thrust" for a, _ in eng._actions) == challenge.PENDING_THRUSTS
+    eng._apply_pending()
+    assert eng.challenge.thruster == "+e1" and eng.error == ""
+
+
 @pytest.mark.parametrize("action, value, words", [
     ("challenge", ("rigid", -1), "challenge start number -1 is not a whole number from 0 to 9999"),
     ("challenge", ("rigid", 1e308), "challenge start number 1e+308"),

@@ -110,6 +110,11 @@ class Engine:
         """Actions: play, pause, step, reset, warp, preset, system, fidelity, restart_on_change,
         view, overlay, ... (app.engine.actions.ACTIONS), and each system's own by name (physics.figure.Action)."""
         with self._lock:
+            if action == "thrust" and sum(a == "thrust" for a, _ in self._actions) >= challenge.PENDING_THRUSTS:
+                # a held button repeats 10 times a second: more than this between two ticks is a client flooding,
+                # and each switch of thruster is a retune; the latest presses are the ones that count
+                first = next(i for i, (a, _) in enumerate(self._actions) if a == "thrust")
+                del self._actions[first]
             self._actions.append((action, value))
             return self._bump()
 
