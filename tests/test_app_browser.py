@@ -195,14 +195,15 @@ def click(page, name: str) -> None:
     page.wait_for_timeout(150)  # the browser sends one GUI message per 50 ms
 
 
-def choose(page, label: str, option: str, tries: int = 3) -> None:
+def choose(page, label: str, option: str, tries: int = 3, force: bool = False) -> None:
     """Open the dropdown ``label`` and click ``option``. A list the server closes by resending its options (after
     the previous change) never shows the option: it is opened again, up to ``tries`` times."""
     for attempt in range(tries):
         last = attempt == tries - 1
         page.locator(f'[id="{control_id(page, label)}"]').click()
         try:
-            page.get_by_role("option", name=option, exact=True).click(timeout=UI_TIMEOUT if last else UI_TIMEOUT / 2)
+            page.get_by_role("option", name=option, exact=True).click(timeout=UI_TIMEOUT if last else UI_TIMEOUT / 2,
+                                                                      force=force)
             return
         except sync_api.TimeoutError:
             if last:
@@ -210,11 +211,11 @@ def choose(page, label: str, option: str, tries: int = 3) -> None:
             page.keyboard.press("Escape")
 
 
-def choose_until(page, label: str, option: str, done, what: str, tries: int = 3) -> None:
+def choose_until(page, label: str, option: str, done, what: str, tries: int = 3, force: bool = False) -> None:
     """Choose ``option`` until ``done()`` holds: a dropdown whose options the server is resending (after the
     previous change) can swallow a click, so the choice is made again, never assumed."""
     for _ in range(tries):
-        choose(page, label, option)
+        choose(page, label, option, force=force)
         for _ in range(40):
             if done():
                 return

@@ -14,15 +14,14 @@ import sys
 from pathlib import Path
 
 import pytest
-from playwright import sync_api
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_app_browser import (  # noqa: E402  (chromium, once per module)
     ROOT,
     START_TIMEOUT,
     browser,
+    choose_until,
     click,
-    control_id,
     read,
     readouts,
     wait_until,
@@ -83,26 +82,6 @@ def open_tab(browser, url: str, viewport: dict | None = None):
     return page
 
 
-def choose_now(page, label: str, option: str, done, what: str, tries: int = 3) -> None:
-    """Choose ``option`` without waiting for the list to stop moving (three tabs in software WebGL animate it
-    slowly), until ``done()`` holds: a list the server closes while resending its options swallows the click, so
-    the choice is made again, never assumed."""
-    for _ in range(tries):
-        page.locator(f'[id="{control_id(page, label)}"]').click()
-        option_box = page.get_by_role("option", name=option, exact=True)
-        try:
-            option_box.click(force=True, timeout=WAIT_MS / 4)
-        except sync_api.TimeoutError:
-            page.keyboard.press("Escape")
-            continue
-        for _ in range(120):
-            if done():
-                return
-            page.wait_for_timeout(250)
-        page.keyboard.press("Escape")
-    pytest.fail(f"timed out waiting for {what}")
-
-
 def shot(page, name: str) -> None:
     folder = os.environ.get("QUASIRIGID_SHOTS")
     if folder:
@@ -129,8 +108,9 @@ def test_a_class_lecturer_and_two_students(browser, links):
     wait(lecturer, lambda: all(read(p, "t") == read(lecturer, "t") for p in students),
                "the students' t is the lecturer's (the late one joined at the class's present)")
 
-    choose_now(lecturer, "Preset", PRESET, lambda: f"preset: {PRESET}" in readouts(lecturer),
-               "the lecturer's own preset")  # and then in every student's readouts
+    # forced: three tabs in software WebGL animate the list slowly
+    choose_until(lecturer, "Preset", PRESET, lambda: f"preset: {PRESET}" in readouts(lecturer),
+                 "the lecturer's own preset", force=True)  # and then in every student's readouts
     for page in students:
         wait(page, lambda page=page: f"preset: {PRESET}" in readouts(page) and "· paused" in status(page),
              "the lecturer's preset, paused")
