@@ -12,6 +12,7 @@ import viser
 from ..engine.engine import Engine
 from ..engine.geometry import box_mesh, cylinder_mesh, trail_segments
 from ..handles import set_if_changed
+from . import camera
 from .compare_view import CompareView
 from .figure_view import FigureNodes
 from .labels import label_groups
@@ -30,11 +31,11 @@ class Drawing:
         self.engine = engine
         self.legend = LegendView(client.gui)  # what each arrow, line, trail and ball is (app.scene.legend)
         self._build_scene()
+        camera.fit_when_known(client.camera)  # a narrow view moves the body clear of the legend
 
     def _build_scene(self) -> None:
         sc = self.client.scene
-        self.client.camera.position = (3.0, -3.4, 1.9)
-        self.client.camera.look_at = (0.0, 0.0, 0.3)
+        camera.place(self.client.camera)
         self.root = f"/s{self.client.client_id}"
         # viser's default environment map costs a browser without a GPU (software WebGL) a 4-6 s stall
         # in about half the page loads, which pushed the first drawn frame past 5 s

@@ -29,6 +29,7 @@ from ..panel import plots
 from ..panel.compare_plots import ComparePlots
 from ..panel.energy_plot import EnergyChart
 from ..panel.panel import Panel, _details_md, _readout_md
+from ..scene import camera
 from ..scene.drawing import Drawing
 from ..scene.legend import LegendView
 from .message_guard import screen_gui_updates
@@ -40,7 +41,6 @@ FLAGS = ("scene_changed", "sliders_changed", "plots_changed")
 # whole class scene in a tab, the nodes made after the hiding too (a new race's second body).
 CLASS_ID = "class/all"
 CLASS_NODES = ("/sclass",)
-CAMERA = dict(position=(3.0, -3.4, 1.9), look_at=(0.0, 0.0, 0.3))  # as a tab of its own starts (Drawing)
 
 
 class Shared:
@@ -192,8 +192,9 @@ class ClassDrawing(Drawing):
 
 
 def place_camera(client: viser.ClientHandle) -> None:
-    client.camera.position = CAMERA["position"]
-    client.camera.look_at = CAMERA["look_at"]
+    """A joining tab's view, as a tab of its own starts (app.scene.camera)."""
+    camera.place(client.camera)
+    camera.fit_when_known(client.camera)
 
 
 def show_class_scene(client: viser.ClientHandle, shown: bool) -> None:
