@@ -121,6 +121,11 @@ CALLS = {
     "point_scenario": lambda sc, v: physics.point_scenario(sc, {"mass.chi": v}),
     "check_point": lambda sc, v: physics.check_point(sc, v),
     "with_values": lambda sc, v: sc.with_values(**{"mass.chi": v}),
+    "end_state": lambda sc, v: physics.end_state(v),
+    "end_state K": lambda sc, v: physics.end_state(sc, K=v),
+    "end_state E": lambda sc, v: physics.end_state(sc, E=v),
+    "edit_dict key": lambda sc, v: physics.edit_dict(sc.to_dict(), v, 1.0),
+    "edit_dict data": lambda sc, v: physics.edit_dict(v, "mass.m", 1.0),
 }
 
 

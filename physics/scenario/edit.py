@@ -22,6 +22,10 @@ def edit_dict(data: dict, dotted: str, value, base=None) -> None:
     """Set ``dotted`` (``table.key``) to ``value`` in the scenario dict ``data`` (``Scenario.to_dict()``),
     in place. ``base`` is the Scenario ``data`` came from (its body and initial rewrite omega as G0, theta0; without
     it they are read from ``data``)."""
+    if not isinstance(data, dict):
+        raise ScenarioError("data", type(data).__name__, "must be a scenario dict (Scenario.to_dict())")
+    if not isinstance(dotted, str):
+        raise ScenarioError("key", dotted, "must be a dotted key table.key, e.g. mass.m")
     table, _, key = dotted.partition(".")
     if not key:
         raise ScenarioError(dotted, value, "must be a dotted key table.key, e.g. mass.m")

@@ -18,12 +18,15 @@ very inertia the model integrates.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import minimize
 
+from physics.core.errors import ScenarioError
 from physics.registry import get_model, get_system
+from physics.scenario import arguments
 from physics.systems.cost import brake_and_medium
 
 # The minimiser works in q / scale; these are in those units (the scale is a coordinate's typical excursion).
@@ -94,6 +97,16 @@ def end_state(sc, K: np.ndarray | None = None, E: float | None = None) -> EndSta
     It settles from the scenario's initial state, or from a running one: ``K`` its total angular momentum in
     body axes now (kg m^2/s, (3,): |K| and the side of the axis), ``E`` its energy now (J, E0 of the result).
     """
+    sc = arguments.scenario(sc)
+    if K is not None:
+        try:
+            K = np.asarray(K, dtype=float).reshape(3)
+        except Exception:  # noqa: BLE001 - a caller's object may raise anything from __float__
+            raise ScenarioError("K", K, "must be three numbers (the angular momentum in body axes)") from None
+        if not np.all(np.isfinite(K)):
+            raise ScenarioError("K", K.tolist(), "must be finite")
+    if E is not None and not (isinstance(E, numbers.Real) and not isinstance(E, bool) and math.isfinite(E)):
+        raise ScenarioError("E", E, "must be a finite number (J)")
     b, lam = brake_and_medium(sc)
     if b > 0:
         return NoEndState(f"control.b = {b:g} N m: the braking torque takes |K| to zero, no fixed end state")
