@@ -18,6 +18,7 @@ STUDIES = {
     "load": ("load", "the explorer served to several websocket clients: updates per second, memory"),
     "refusals": ("refusals", "extreme-value edits of the shipped scenarios: refusals that do not name their key"),
     "class": ("classroom", "class mode: N student tabs following the lecturer's run: updates/s, memory, edit latency"),
+    "api-escapes": ("api_escapes", "hostile arguments to every public API entry point: errors of undocumented types"),
     "hostile": ("hostile", "hostile values from a raw websocket client to every control: server tracebacks, memory"),
     "explorer-rates": ("explorer_rates", "frames per second, achieved warp and slider latency of the explorer"),
     "fidelity": ("fidelity", "cheaper fidelities' actual theta error against their stated estimate (issue 15)"),
