@@ -27,6 +27,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -76,7 +77,10 @@ def serve_class(tabs: int, seconds: float, *, warmup: float, edit_every: float) 
     room.open()  # the class run starts now; the lecturer's tab joins it like any
     cmd = [sys.executable, "-m", "bench.classroom", "--client", f"ws://127.0.0.1:{app.port}", "--tabs", str(tabs),
            "--seconds", str(seconds), "--key", room.key]
-    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # the tabs' counts go to files, not pipes: ten minutes of 30 tabs' counts are more than a pipe holds, and
+    # the child would wait to write them while this loop waits for it to end
+    result_file, error_file = tempfile.TemporaryFile(mode="w+"), tempfile.TemporaryFile(mode="w+")
+    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=result_file, stderr=error_file, text=True)
     t0 = time.perf_counter()
     rss: list[tuple[float, int]] = []
     load: list[float] = []
@@ -95,7 +99,10 @@ def serve_class(tabs: int, seconds: float, *, warmup: float, edit_every: float) 
                 room.engine.request_value(EDIT_KEY, EDIT_VALUES[len(edits) % 2])
                 next_edit += edit_every
             time.sleep(0.25)
-        out, err = proc.communicate()
+        proc.wait()
+        result_file.seek(0)
+        error_file.seek(0)
+        out, err = result_file.read(), error_file.read()
         frames, ticks = room.frames - (frames0 or 0), room.ticks - (ticks0 or 0)
         views = len(room.views)
     finally:
