@@ -524,6 +524,11 @@ class Engine:
             return ""
         return words.start_words(self.start_scenario, float(rows[0, 1]), float(rows[0, 2]))
 
+    def once_per_frame(self, name: str, compute):
+        """``compute()``: a value every view of this frame reads alike. One tab has one view, so it is computed
+        where asked; a class's views share one (app.serve.class_view.EngineView keeps it for the frame)."""
+        return compute()
+
     def details(self) -> dict[str, str]:
         """The model and the raw attitude, and the end state in words, for the Details folder (``output.details``)."""
         return {**output.details(self.run), **output.end_details(self.end_state())}

@@ -72,7 +72,9 @@ class EnergyChart:
         if not shown or not (changed or self._stale):
             return
         b = engine.scenario.body
-        t, E, spins = self._columns(engine.plot_data(), (b.A, b.B, b.C))
+        # the same for every view of a class's frame (pure spins' energies along the whole run): computed once
+        t, E, spins = engine.once_per_frame(
+            "energy_columns", lambda: self._columns(engine.plot_data(), (b.A, b.B, b.C)))
         if len(t) < 2:
             return
         self._stale = False

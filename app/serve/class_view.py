@@ -103,6 +103,13 @@ class EngineView:
     def details(self) -> dict[str, str]:
         return self._shared.get("details", self._engine.details)
 
+    def end_state(self, block: bool = False):
+        # the engine's asks the run for K (its invariants) each time: once a frame, not once a tab
+        return self._engine.end_state(True) if block else self._shared.get("end_state", self._engine.end_state)
+
+    def once_per_frame(self, name: str, compute):
+        return self._shared.get(name, compute)
+
 
 class FollowerPanel:
     """A student's panel while following: what the class run shows, and the way to a run of one's own."""
