@@ -1,9 +1,9 @@
-"""Class mode in a real browser (issue 25, point 1): ``python -m app --class``, the lecturer's tab and two students'
-tabs, each in a browser context of its own (its own storage, as on three machines). A student who comes first
-waits for the lecturer and follows the run; the lecturer pauses, a late student joins at the class's present; both
-follow the lecturer's preset in their readouts; a student's page has no control of the class run; "Explore from
-here" and "Follow the class". Everything is read from the pages. Screenshots of a student's tab go to the folder
-in QUASIRIGID_SHOTS, when it is set."""
+"""Class mode in a real browser (issue 25, point 1): ``python -m app --class``, the lecturer's tab and three
+students' tabs, each in a browser context of its own (its own storage, as on four machines). A student who comes
+first waits for the lecturer and follows the run; the lecturer pauses, two late students join at the class's
+present; all three follow the lecturer's preset, edit and reset in their readouts; a student's page has no control
+of the class run; "Explore from here" and "Follow the class". Everything is read from the pages. Screenshots of a
+student's tab go to the folder in QUASIRIGID_SHOTS, when it is set."""
 
 from __future__ import annotations
 
@@ -18,12 +18,14 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_app_browser import (  # noqa: E402  (chromium, once per module)
     ROOT,
+    SIX,
     START_TIMEOUT,
     browser,
     choose_until,
     click,
     read,
     readouts,
+    set_slider,
     wait_until,
 )
 
@@ -88,7 +90,7 @@ def shot(page, name: str) -> None:
         page.screenshot(path=str(Path(folder) / name))
 
 
-def test_a_class_lecturer_and_two_students(browser, links):
+def test_a_class_lecturer_and_three_students(browser, links):
     early = open_tab(browser, links["students"])
     wait(early, lambda: "waiting for the lecturer" in status(early), "the early student waits")
     lecturer = open_tab(browser, links["lecturer"])
@@ -102,9 +104,11 @@ def test_a_class_lecturer_and_two_students(browser, links):
     click(lecturer, "Pause")
     wait(early, lambda: "· paused" in status(early), "the lecturer's pause")
     late = open_tab(browser, links["students"], {"width": 1024, "height": 768})
-    wait(late, lambda: "following the class" in status(late) and "fidelity = " in readouts(late),
-               "the late student follows")
-    students = (early, late)
+    third = open_tab(browser, links["students"], {"width": 1280, "height": 800})
+    for page in (late, third):
+        wait(page, lambda page=page: "following the class" in status(page) and "fidelity = " in readouts(page),
+             "a late student follows")
+    students = (early, late, third)
     wait(lecturer, lambda: all(read(p, "t") == read(lecturer, "t") for p in students),
                "the students' t is the lecturer's (the late one joined at the class's present)")
 
@@ -118,6 +122,26 @@ def test_a_class_lecturer_and_two_students(browser, links):
                "the students' t is the lecturer's")
     shot(early, "class_student_1400x900.png")
     shot(late, "class_student_1024x768.png")
+
+    set_slider(lecturer, SIX["b"], 0.01)  # an edit: the braking time it gives shows in every student's readouts
+    T = wait(lecturer, lambda: read(lecturer, "T") if read(lecturer, "T").endswith(" s") else None, "the lecturer's T")
+    for page in students:
+        wait(page, lambda page=page: read(page, "T") == T, "the lecturer's edit (b, so T)")
+    set_slider(lecturer, SIX["b"], 0.0)  # the preset plays at 1500x: braked, it would stop before a pause arrives
+    for page in students:
+        wait(page, lambda page=page: read(page, "T") == "no braking", "the lecturer's second edit (no braking)")
+    t_edit = read(lecturer, "t")
+    click(lecturer, "Play")
+    wait(early, lambda: "· playing" in status(early) and read(early, "t") != t_edit, "the class run playing")
+    click(lecturer, "Pause")
+    t_paused = wait(lecturer, lambda: "· paused" in status(lecturer) and read(lecturer, "t"), "the lecturer's pause")
+    click(lecturer, "Reset")  # paused: back to the start, and staying there
+    wait(lecturer, lambda: read(lecturer, "t") != t_paused, "the lecturer's reset")
+    t_start = read(lecturer, "t")
+    assert float(t_start.split()[0]) < float(t_paused.split()[0])
+    for page in students:
+        wait(page, lambda page=page: "· paused" in status(page) and read(page, "t") == t_start,
+             "the lecturer's pause and reset")
 
     for page in students:  # no control of the class run on a student's page
         for name in ("Pause", "Play", "Reset"):
@@ -134,9 +158,10 @@ def test_a_class_lecturer_and_two_students(browser, links):
     assert float(read(early, "t").split()[0]) >= float(t_class.split()[0])
     shot(early, "class_student_exploring_1400x900.png")
     click(early, "Play")
-    assert "· paused" in status(late) and read(late, "t") == t_class  # the class run did not move
+    for page in (late, third):  # the class run did not move
+        assert "· paused" in status(page) and read(page, "t") == t_class
     click(early, "Follow the class")
     wait(early, lambda: "following the class" in status(early) and read(early, "t") == t_class,
                "following the class again")
-    for page in (early, late, lecturer):
+    for page in (early, late, third, lecturer):
         page.close()
