@@ -635,7 +635,9 @@ def rescore_file(path: Path, out: Path, img: Path, stem: str, command: str) -> d
     rows = rescore(read_rows(path))
     source = path.with_suffix(".meta.json")
     before = json.loads(source.read_text()) if source.exists() else {}
-    meta = dict(command=command, rescored_from=dict((k, before.get(k)) for k in ("command", "seed", "n", "date")),
+    # a study rescored before keeps the record of the run that measured it, not of the earlier rescoring
+    ran = before.get("rescored_from") or dict((k, before.get(k)) for k in ("command", "seed", "n", "date"))
+    meta = dict(command=command, rescored_from=ran,
                 quick=before.get("quick", False), n=before.get("n", len({r["index"] for r in rows})),
                 seed=before.get("seed"), date=datetime.now(UTC).isoformat(timespec="seconds"), machine=machine())
     return write(rows, meta, out, img, stem, f"cheaper fidelities against the full model: {meta['n']} scenarios, "
