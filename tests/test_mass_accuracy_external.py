@@ -23,7 +23,7 @@ CASES = {
     "prolate, a medium only": {"body.C": 0.7, "control.b": 0.0, "medium.lambda": 0.004, "run.t_end": 300.0,
                                "initial.theta0": 0.5},
 }
-# how far above the measured error the estimate may be here: SAFETY (2.3) times the spread the calibration
+# how far above the measured error the estimate may be here: SAFETY (2.0) times the spread the calibration
 # study saw in its middle half (docs/models.md), so a term that grew out of proportion fails
 MAX_OVER = 5.0
 

@@ -46,11 +46,12 @@ PATH_SAMPLES = 257  # points of the cheaper model's theta(t) the terms are read 
 # the three coefficients minimised the median (unscaled sum / actual) times the worst (actual / unscaled sum): the
 # optimum is flat (2.26-2.30 over the best dozen), these are its simplest point, where the worst case is 1.57 and
 # the median 1.47 (the rate term's spread: its sign against the shift's is not modelled, so where they cancel the
-# sum over-states). SAFETY leaves 1.46x beyond the worst case: median estimate/actual 3.4 there
+# sum over-states). SAFETY 2.0 (2.3 until the median goal: 3.4 there) leaves 1.27x beyond the worst case, and the
+# median estimate/actual is 2.9 there (2.3 on seed 41, where the worst case is 0.70 of the estimate)
 RATE_BASE = 3.0  # delta / eps^2 for a far-from-spherical, light mass (a separate oblate/prolate value fit no better)
 RATE_SHAPE = 0.5  # the m rho^2 / (A |1 - C/A|) part of delta / eps^2
 EXTERNAL = 1.5  # the medium's and brake's turn of K, per its integral (Terms.external)
-SAFETY = 2.3
+SAFETY = 2.0
 
 # The domain the study covers: (name, value of sc, limit). The estimate claims nothing outside it.
 DOMAIN_EPS = 0.2
