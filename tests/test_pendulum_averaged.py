@@ -12,6 +12,7 @@ from scipy.integrate import solve_ivp
 
 import physics
 from physics.systems.choice import choose_fidelity, conditions
+from physics.systems.pendulum import accuracy, validity
 from physics.systems.pendulum import averaged as pa
 from physics.systems.pendulum import linear as pl
 from physics.systems.pendulum.geometry import pendulum_system
@@ -220,8 +221,10 @@ def test_auto_chooses_averaged_where_its_error_estimate_meets_the_accuracy():
     """Since issue 15 auto asks the averaged model's error estimate (pendulum/accuracy.py), no longer B.10's
     limits: the strongly coupled eps = 1 case (g/|Omega| = 0.2, outside B.10) at 1 deg now runs averaged because
     its estimate is below the default accuracy, and 4 deg (the bob swings ~0.09 rad) runs full because its
-    estimate is not; at 5 deg the amplitude detuning exceeds the resonance's width (a condition on the bob's own
-    swing), and an asymmetric carrier still fails a structural condition."""
+    estimate is not; at 5 deg the amplitude detuning exceeds the resonance's width and the estimate says how far
+    off that leaves the averaged model (since issue 23; before, it claimed nothing there); at 36 deg the detuning
+    is beyond the range the estimate was calibrated on (a condition on the bob's own swing), and an asymmetric
+    carrier still fails a structural condition."""
     inside = scaled(1 / 8, theta0=0.5 * deg)
     fid, why = choose_fidelity(inside)
     assert fid == "averaged" and "<=" in why
@@ -230,8 +233,13 @@ def test_auto_chooses_averaged_where_its_error_estimate_meets_the_accuracy():
     assert choose_fidelity(scaled(1.0).with_values(**{"run.accuracy": 1e-4}))[0] == "full"  # its estimate is ~4e-4
     fid, why = choose_fidelity(scaled(1 / 8, theta0=4 * deg))
     assert fid == "full" and "averaged error estimate" in why and ">" in why
-    fid, why = choose_fidelity(scaled(1 / 8, theta0=5 * deg))
-    assert fid == "full" and "amplitude detuning / resonance width" in why
+    five = scaled(1 / 8, theta0=5 * deg)
+    q = accuracy.scenario_parts(five)
+    assert q.shift / q.width > 1 and validity.error_bounds(five, "averaged") == q.bound > 1e-2
+    fid, why = choose_fidelity(five)
+    assert fid == "full" and "averaged error estimate" in why and ">" in why
+    fid, why = choose_fidelity(scaled(1 / 8, theta0=36 * deg))
+    assert fid == "full" and "amplitude detuning / resonance width" in why and "pendulum swing" not in why
     fid, why = choose_fidelity(scaled(1 / 8, theta0=0.5 * deg, B=110.0))
     assert fid == "full" and "|A - B|" in why
 

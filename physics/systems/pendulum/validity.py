@@ -26,10 +26,11 @@ from physics.systems.pendulum.linear import spherical_linear
 ASYM_MAX = 1e-9  # |A - B| / A: the averaged equations are for a symmetric carrier
 SWING_MAX = 1.0  # rad, the bob's largest swing in linear theory: the calibration study's range (bench fidelity)
 # the amplitude-dependent detuning (from the bob's swing in linear theory and theta0) over the resonance's width:
-# beyond 1 the nonlinearity pulls the pendulum across the resonance, the estimate's first-order sensitivities no
-# longer bound the error (up to 2.4x measured between 1 and 3), and the averaged model is off by > 1e-2 rad in
-# 77 of the study's 81 such scenarios anyway
-NONLINEAR_MAX = 1.0
+# the calibration studies' range (their largest 56.5, seeds 15, 101, 202, 303). Beyond 1 the nonlinearity can pull
+# the pendulum across the resonance; since the detuning gap reads the resonance too (accuracy.parts), the unscaled
+# estimate held there in all 138 such scenarios of six seeds (worst 0.98; read at the ends only it missed by up to
+# 2.4x, and this limit was 1). Most are off by more than 1e-2 rad: the estimate says so instead of nothing
+NONLINEAR_MAX = 60.0
 COUPLING_MAX = 0.02  # mu D^2 / A: the calibration study's range (its largest were 0.014-0.018)
 
 # derived's ``error_bound_method`` and the explorer's badge: how the estimate is obtained, in one sentence
@@ -57,7 +58,7 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
         out += [Condition("pendulum swing (linear theory, rad)", q.a, SWING_MAX,
                           "the pendulum's own swing stays moderate"),
                 Condition("amplitude detuning / resonance width", q.shift / q.width if q.width > 0 else math.inf,
-                          NONLINEAR_MAX, "the swing does not detune the pendulum from resonance")]
+                          NONLINEAR_MAX, "the swing detunes the pendulum no further than the calibrated range")]
     return out
 
 
