@@ -38,6 +38,7 @@ LOAD_SHORT = "bench/results/load_10x05.json"  # the same for 0.5 minutes, --warm
 SOAK_RECONNECT = "bench/results/soak_3min_reconnect.json"  # soak --minutes 3 --churn 0 --reconnect 10 --warmup 30
 SOAK_PRESETS = "bench/results/soak_3min_presets.json"  # soak --minutes 3 --reconnect 0 --churn 5 --warmup 30
 CHALLENGE = "bench/results/challenge.csv"  # python -m bench challenge
+CLASS = "bench/results/class.json"  # python -m bench class --tabs 30 --minutes 10 --warmup 20
 
 
 def rows(name: str) -> list[dict]:
@@ -583,6 +584,25 @@ FIGURES = [
      lambda: sum(not math.isfinite(x) for x in col(CHALLENGE, "ratio", reaction_s="0.5"))),
     ("docs/guide.md", r"deciding every 0.5 s, \d+ of its (\d+) races", CHALLENGE,
      lambda: len(col(CHALLENGE, "ratio", reaction_s="0.5"))),
+    # docs/performance.md's class on one server: python -m bench class
+    (PERF, r"and (\d+) student tabs \(raw websocket", CLASS, lambda: result(CLASS)["tabs"]),
+    (PERF, r"At load average (\d\.\d) \(median\) on 2 cores: each tab", CLASS,
+     lambda: result(CLASS)["load_average_1min_median"]),
+    (PERF, r"each tab received (\d+) updates per second as a median", CLASS,
+     lambda: statistics.median(c["median_updates_per_s"] for c in result(CLASS)["clients"])),
+    (PERF, r"as a median; (\d+) of the \d+ tabs had at least 30", CLASS,
+     lambda: result(CLASS)["tabs_meeting_30_in_95pct"]),
+    (PERF, r"of their seconds, the worst (\d+\.\d) %", CLASS,
+     lambda: 100 * min(c["share_of_seconds_ge_30"] for c in result(CLASS)["clients"])),
+    (PERF, r"and the best (\d+\.\d) %", CLASS,
+     lambda: 100 * max(c["share_of_seconds_ge_30"] for c in result(CLASS)["clients"])),
+    (PERF, r"the class loop published (\d+\.\d) frames per second", CLASS,
+     lambda: result(CLASS)["class_frames"] / result(CLASS)["seconds"]),
+    (PERF, r"memory went from (\d+\.\d) to", CLASS, lambda: result(CLASS)["rss_mb_start"]),
+    (PERF, r"memory went from [\d.]+ to (\d+\.\d) MB", CLASS, lambda: result(CLASS)["rss_mb_end"]),
+    (PERF, r"MB after the warm-up \(\+(\d\.\d+) %\)", CLASS, lambda: 100 * result(CLASS)["rss_growth"]),
+    (PERF, r"reached a tab in (\d+) ms as a median", CLASS, lambda: 1e3 * result(CLASS)["edit_latency_median_s"]),
+    (PERF, r"as a median, (\d+) ms at most", CLASS, lambda: 1e3 * result(CLASS)["edit_latency_max_s"]),
 ]
 
 
