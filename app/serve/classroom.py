@@ -52,6 +52,9 @@ MAX_KEY_CHARS = 200  # of a class parameter compared with the key (the page's sc
 GONE_KEPT = 10_000  # closed tabs remembered (their ids), so one closing while it joins gets no view
 JOINS_PER_FRAME = 1  # views built between two frames: a crowd joining at once slows the class's frames a little
 PLOT_FRAMES = 4  # at most one frame in this many carries the plots: a slow machine's frames stay light
+# a crowd of following tabs gets the plots this often: each tab's copy of the plots' arrays is encoded and sent
+# on its own, and in a class of 30 that, not the shared scene, was most of the server's work (bench class)
+FOLLOWER_PLOT_HZ = 2.0
 FOLLOW = "Follow the class"
 
 
@@ -78,6 +81,7 @@ class ClassRoom:
         self.frames = 0
         self.first_frame_after: dict[int, float] = {}  # lecturer's change seq -> s until every view had its frame
         self.pace = Pace()
+        self._next_follower_plot = 0.0
         self.scoreboard = Scoreboard()  # the braking challenge: the lecturer's start, the students' scores
         self.stop = threading.Event()
         self.thread: threading.Thread | None = None
@@ -297,9 +301,13 @@ class ClassRoom:
             self.drawing.update(fr, plots_now)
         views = list(self.views.items())
         lecturer_here = any(v.role == "lecturer" for _, v in views)
+        now = time.perf_counter()
+        followers_plot = plots_now and (not self.pace.crowded(len(views)) or now >= self._next_follower_plot)
+        if followers_plot:
+            self._next_follower_plot = now + 1.0 / FOLLOWER_PLOT_HZ
         for cid, view in views:
-            try:
-                view.publish(fr, plots_now, lecturer_here)
+            try:  # a follower that skips a plots frame keeps its flags raised and draws them at its next one
+                view.publish(fr, followers_plot if view.role == "student" else plots_now, lecturer_here)
             except Exception:  # one tab's failure (closed as it was drawn) is never the class's
                 if cid not in self._gone:
                     traceback.print_exc()
