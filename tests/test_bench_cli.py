@@ -31,6 +31,7 @@ OPTIONS = {
     "soak": ["--minutes", "--clients", "--churn", "--reconnect", "--trim"],
     "load": ["--clients", "--minutes", "--warmup", "--out"],
     "hostile": ["--rounds", "--settle", "--seed", "--out"],
+    "api-escapes": ["--root", "--out", "--note"],
     "refusals": ["--wall", "--out"],
     "class": ["--tabs", "--minutes", "--warmup", "--edit-every", "--out"],
     "explorer-rates": ["seconds", "--out", "--img", "--chart-only", "--compare"],
