@@ -232,14 +232,13 @@ class FollowerView:
 
     def publish(self, fr, plots_now: bool, lecturer_here: bool) -> None:
         self.view.raise_flags()
-        if not plots_now:  # the status line at most: no bundle of messages to open and close for it
+        if plots_now:
+            with self.client.atomic():
+                self.panel.update(fr, plots_now, lecturer_here)
+                if self.drawing.legend_parts is not None:
+                    self.legend.show(self.drawing.legend_parts)
+        else:  # the status line at most: no bundle of messages to open and close for it
             self.panel.update(fr, plots_now, lecturer_here)
-            self.published += 1
-            return
-        with self.client.atomic():
-            self.panel.update(fr, plots_now, lecturer_here)
-            if self.drawing.legend_parts is not None:
-                self.legend.show(self.drawing.legend_parts)
         self.published += 1
 
 
