@@ -465,6 +465,20 @@ def _attitude_reference_25(co, t):
     return integrate(rhs, w0 + [1.0, 0.0, 0.0, 0.0], t, ()).y
 
 
+@pytest.mark.parametrize("gamma,theta0,t_end", [(-0.0001383220719384586, 0.7672642701325405, 60332.109539001736),
+                                                 (-0.05, 0.9, 400.0), (0.02, 0.1, 4000.0)])
+def test_quadratic_friction_theta_is_the_ode_at_every_point_of_a_fine_grid(gamma, theta0, t_end):
+    """(2.11) inverted against theta' = gamma sin|sin| cos^5 (2.9) integrated by scipy, at 1001 times. The first
+    case is issue 23's quadratic-friction draw (seed 505, index 16) where Newton bounced between the ends of its
+    bracket as theta crossed Phi = 0 and stopped 0.3 rad from the root at two times of the grid."""
+    t = np.linspace(0.0, t_end, 1001)
+    ode = solve_ivp(lambda _t, y: gamma * np.sin(y) * np.abs(np.sin(y)) * np.cos(y) ** 5, (0.0, t_end), [theta0],
+                    t_eval=t, rtol=1e-12, atol=1e-14, method="DOP853").y[0]
+    theta = cf.quadratic_friction_theta(t, theta0, gamma)
+    assert abs(theta[-1] - theta0) > 0.3  # theta moves, across Phi = 0 for the first case
+    assert np.max(np.abs(theta - ode)) < 1e-9
+
+
 def test_closed_state_quadratic_friction_matches_eq25():
     c = CASES_25["prolate"]
     A, C, F, th0, K = c["A"], c["C"], c["F"], c["theta0"], 1.0

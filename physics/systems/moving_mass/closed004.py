@@ -391,21 +391,27 @@ def equatorial_direction(t, n0, theta0: float, G0: float, b: float, lam: float, 
 def _solve_increasing(fun, dfun, target, lo, hi, x0, max_iter: int = 200):
     """Vectorised Newton for fun(x) = target, fun increasing, kept inside the bracket [lo, hi] by bisection.
 
-    Stops when every step is below 1e-14 relative: the residual of fun is then at its rounding level.
+    A Newton step that leaves the bracket, or that is not under half the step before it, is replaced by bisection:
+    on an S-shaped fun (seed 000's (2.11) in asinh form, where theta crosses Phi = 0) plain Newton can bounce
+    between two points near either end of the bracket, shrinking it by ~1e-4 a step, and stop 0.3 rad from the
+    root after max_iter (issue 23 found this in a quadratic-friction run). Stops when every step is below 1e-14
+    relative: the residual of fun is then at its rounding level.
     """
     target = np.asarray(target, float)
     x = np.broadcast_to(np.asarray(x0, float), target.shape).copy()
     lo = np.broadcast_to(np.asarray(lo, float), target.shape).copy()
     hi = np.broadcast_to(np.asarray(hi, float), target.shape).copy()
     done = np.zeros(target.shape, bool)
+    last = np.full(target.shape, np.inf)  # the size of the step before
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         for _ in range(max_iter):
             r = fun(x) - target
             lo = np.where(r < 0, x, lo)
             hi = np.where(r > 0, x, hi)
             xn = x - r / dfun(x)
-            bad = ~np.isfinite(xn) | (xn < lo) | (xn > hi)
+            bad = ~np.isfinite(xn) | (xn < lo) | (xn > hi) | (np.abs(xn - x) > 0.5 * last)
             xn = np.where(done | (r == 0), x, np.where(bad, 0.5 * (lo + hi), xn))
+            last = np.abs(xn - x)
             scale = np.maximum(1.0, np.abs(x))
             done |= (np.abs(xn - x) <= 1e-14 * scale) | (hi - lo <= 4 * np.finfo(float).eps * scale)
             x = xn
