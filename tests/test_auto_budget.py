@@ -25,8 +25,9 @@ def _load(name: str) -> physics.Scenario:
 
 
 def test_quadratic_friction_runs_a_model_that_fits_and_says_why():
-    """The full model would need ~8e7 steps over 4e5 s; no cheaper model has an error estimate there (quadratic
-    friction was not calibrated), so auto runs the most accurate one that fits and names the full model's steps."""
+    """The full model would need ~8e7 steps over 4e5 s; the cheaper models' estimate (0.025 rad) is above the
+    default accuracy, so auto runs the most accurate one that fits, names the full model's steps and states the
+    estimate it runs with."""
     sc = _load("quadratic_friction.toml")
     choice = choose(sc)
     full = choice.steps["full"]
@@ -34,8 +35,17 @@ def test_quadratic_friction_runs_a_model_that_fits_and_says_why():
     assert choice.fidelity in ("averaged", "closed")
     assert estimated_steps(sc, choice.fidelity) <= MAX_STEPS
     assert f"the full model would need about {full:.2g} steps" in choice.reason
-    assert f"budget of {MAX_STEPS:.2g}" in choice.reason and "no error estimate" in choice.reason
+    bound = physics.derived(sc)[f"{choice.fidelity}_error_bound"]
+    assert math.isfinite(bound) and f"with its error estimate {bound:.2g} rad" in choice.reason
+    assert f"budget of {MAX_STEPS:.2g}" in choice.reason
     assert physics.derived(sc)["auto_reason"] == choice.reason  # the explorer's badge reads this
+
+
+def test_beside_other_dissipation_quadratic_friction_runs_with_no_error_estimate_and_says_so():
+    sc = _load("quadratic_friction.toml").with_values(**{"mass.chi": 1.0})
+    choice = choose(sc)
+    assert choice.steps["full"] > MAX_STEPS and choice.fidelity == "averaged"
+    assert "no error estimate" in choice.reason and "lam_q with other dissipation" in choice.reason
 
 
 def test_a_made_up_long_scene_runs_and_its_info_names_the_full_models_steps():

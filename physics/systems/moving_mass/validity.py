@@ -7,6 +7,8 @@ averaged model's theta is good to about 1e-3 rad (docs/models.md A.7(a): eps = 0
 
 from __future__ import annotations
 
+import math
+
 from physics.registry import Condition
 from physics.scenario.scenario import Scenario
 from physics.systems.moving_mass.coefficients import _floats, _ieee, coefficients
@@ -83,8 +85,11 @@ def structural_conditions(sc: Scenario) -> list[Condition]:
     for a mass with quadratic friction, that there is none (the estimate is not calibrated for it)."""
     out = [c for c in averaged_conditions(sc) if c.name.startswith(STRUCTURAL)]
     if sc.mass is not None and sc.mass.lam_q > 0:
-        out.append(Condition("lam_q (quadratic friction: no calibrated error estimate)", sc.mass.lam_q, 0.0,
-                             "the mass has no quadratic friction (no error estimate covers it)"))
+        # the estimate covers quadratic friction alone (the closed form (2.11) it reads its path from)
+        alone, _ = closed_form_available(sc)
+        out.append(Condition("lam_q with other dissipation (no calibrated error estimate)", sc.mass.lam_q,
+                             math.inf if alone else 0.0,
+                             "quadratic friction acts alone (no chi, cavity, medium or brake beside it)"))
     return out
 
 
