@@ -141,6 +141,48 @@ def mass_case(rng) -> tuple[dict, dict]:
     return data, desc
 
 
+# quadratic friction's draw (``--system quadratic_friction``, its own set, seed 000 section 2): the mass alone
+# (the closed form (2.11) covers it only so), a symmetric body, a quasi-static start. lam_q is drawn through
+# chi_eq, the viscous damping with the same slow rate at theta0 (accuracy.equivalent_chi), over the viscous
+# study's chi / Omega and below it (the friction weakens as the nutation decays, so every run ends weak)
+QUADRATIC_CHI = (0.05, 3.0)  # chi_eq(theta0) / Omega, log-uniform
+
+
+def quadratic_case(rng) -> tuple[dict, dict]:
+    """(scenario dict, descriptors) of one quadratic-friction draw."""
+    import physics
+    from physics.systems.moving_mass.accuracy import equivalent_chi
+
+    ca = _shape(rng)
+    kappa, eta = _uniform(rng, KAPPA), _uniform(rng, ETA)
+    rho = _uniform(rng, (0.5, 2.0))
+    theta0 = _uniform(rng, THETA0_MASS)
+    eps = _loguniform(rng, EPS)
+    data = {"body": {"A": 1.0, "C": ca, "M": kappa / rho**2 / eta},
+            "mass": {"m": kappa / rho**2, "rho": rho, "Omega": 1.0, "chi": 0.0, "lam_q": 1.0},
+            "initial": {"G0": 1.0, "theta0": theta0, "mass_state": "quasistatic"},
+            "run": {"t_end": 1.0, "samples": SAMPLES, "rtol": RTOL}}
+    omega0 = physics.coefficients(physics.Scenario.from_dict(data)).omega0
+    data["mass"]["Omega"] = Omega = omega0 / eps
+    # chi_eq is proportional to lam_q
+    per_unit = equivalent_chi(physics.Scenario.from_dict(data))
+    data["mass"]["lam_q"] = Omega * _loguniform(rng, QUADRATIC_CHI) / per_unit
+    sc = physics.Scenario.from_dict(data)
+    co = physics.coefficients(sc)
+    # theta' = gamma sin|sin| cos^5 (seed 000 (2.9)): the slow time is theta0 over the starting rate, capped where
+    # cos^5 all but stops a prolate body near pi/2
+    rate0 = abs(co.gamma) * math.sin(theta0) ** 2 * max(math.cos(theta0) ** 5, 1e-3)
+    slow_time = theta0 / rate0
+    n_slow = _uniform(rng, N_SLOW)
+    data["run"]["t_end"] = float(n_slow * slow_time)
+    chi_eq = per_unit * data["mass"]["lam_q"] / Omega
+    desc = dict(system="moving_mass", kind="quadratic " + ("oblate" if ca > 1 else "prolate"), C_over_A=ca,
+                B_over_A=1.0, kappa=kappa, eta=eta, theta0=theta0, damping=f"chi_eq/Omega {chi_eq:.3g}",
+                cavity=False, medium=False, braking=False, detuning="", n_slow=n_slow, slow_time=slow_time,
+                mass_state="quasistatic")
+    return data, desc
+
+
 # the spherical pendulum's draw: every scenario must run in both models (issue 15). The bob's rest height |h + l|
 # above O sets the coupling: near 0 it vanishes and the e-folding time runs to months of simulated time
 PENDULUM_REACH = (0.03, 0.8)  # m, |h + l|, log-uniform: weak coupling (where the averaged model is good) to strong
@@ -272,7 +314,8 @@ def draw(seed: int, n: int, system: str | None = None) -> list[tuple[dict, dict]
     out = []
     redraws = 0
     while len(out) < n:
-        make = wheel_case if system == "wheel" else mass_case if len(out) % 3 != 2 else pendulum_case
+        own = {"wheel": wheel_case, "quadratic_friction": quadratic_case}.get(system)
+        make = own or (mass_case if len(out) % 3 != 2 else pendulum_case)
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
@@ -609,7 +652,7 @@ def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, comm
         system: str | None = None) -> dict:
     start = time.perf_counter()
     cases = draw(seed, n, system)
-    if system is not None:  # the same draws as the whole study, only this system's (the wheel has its own)
+    if system in ("moving_mass", "spherical_pendulum"):  # the same draws as the whole study, only this system's
         cases = [c for c in cases if c[1]["system"] == system]
     jobs = [(i, data, desc, MAX_STEPS[quick]) for i, (data, desc) in enumerate(cases)]
     rows: list[dict] = []
@@ -621,7 +664,8 @@ def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, comm
         for job in jobs:
             rows.extend(run_case(job))
             print(f"  scenario {job[0] + 1}/{len(jobs)}: {rows[-1]['system']} {rows[-1]['status']}", flush=True)
-    stem = ("fidelity_wheel" if system == "wheel" else "fidelity") + ("_quick" if quick else "")
+    own = {"wheel": "fidelity_wheel", "quadratic_friction": "fidelity_quadratic"}  # the sets drawn on their own
+    stem = own.get(system, "fidelity") + ("_quick" if quick else "")
     meta = dict(command=command, quick=quick, n=n, seed=seed, workers=workers,
                 max_full_steps=MAX_STEPS[quick], date=datetime.now(UTC).isoformat(timespec="seconds"),
                 machine=machine(), wall_total_s=time.perf_counter() - start)
@@ -652,9 +696,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results", help="CSV and meta JSON folder")
     ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img", help="chart folder")
     ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
-    ap.add_argument("--system", choices=("moving_mass", "spherical_pendulum", "wheel"), default=None,
-                    help="run only this system's scenarios of the drawn set; wheel: its own set, written to "
-                         "fidelity_wheel[_quick].csv")
+    ap.add_argument("--system", choices=("moving_mass", "spherical_pendulum", "wheel", "quadratic_friction"),
+                    default=None, help="run only this system's scenarios of the drawn set; wheel and "
+                                       "quadratic_friction (the moving mass against quadratic friction): their own "
+                                       "sets, written to fidelity_wheel[_quick].csv, fidelity_quadratic[_quick].csv")
     ap.add_argument("--rescore", type=Path, default=None, metavar="CSV",
                     help="score a study's CSV again with today's estimates and auto, without running any model "
                          "(the actual errors and wall times are the CSV's); writes <out>/<stem>.csv")

@@ -62,6 +62,25 @@ def test_moving_mass_draws_stay_in_the_stated_ranges_and_cover_the_domain(cases)
                for sc, d in mass)
 
 
+def test_quadratic_friction_draws_are_the_mass_alone_over_the_equivalent_damping_range():
+    """The set ``--system quadratic_friction`` draws (issue 23): quadratic friction with nothing beside it, a
+    symmetric body, chi_eq(theta0)/Omega over QUADRATIC_CHI, both shapes."""
+    from physics.systems.moving_mass.accuracy import equivalent_chi
+
+    cases = F.draw(seed=3, n=60, system="quadratic_friction")
+    assert len(cases) == 60
+    ratios = []
+    for data, _desc in cases:
+        sc = physics.Scenario.from_dict(data)
+        assert sc.mass.lam_q > 0 and sc.mass.chi == 0 and sc.body.A == sc.body.B
+        assert sc.cavity is None and sc.medium is None and sc.control is None
+        assert sc.initial.mass_state == "quasistatic" and np.isfinite(sc.run.t_end) and sc.run.t_end > 0
+        ratios.append(equivalent_chi(sc) / sc.mass.Omega)
+        assert _within(ratios[-1], F.QUADRATIC_CHI)
+    assert min(ratios) < 0.2 < 1.0 < max(ratios)  # below the viscous study's range and across it
+    assert {d["kind"] for _data, d in cases} == {"quadratic oblate", "quadratic prolate"}
+
+
 def test_pendulum_draws_are_resonant_and_detuned_with_weak_and_strong_damping(cases):
     pend = [(physics.Scenario.from_dict(d), desc) for d, desc in cases if desc["system"] == "spherical_pendulum"]
     assert len(pend) >= N_DRAWS // 4
