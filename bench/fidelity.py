@@ -164,9 +164,8 @@ def quadratic_case(rng) -> tuple[dict, dict]:
             "run": {"t_end": 1.0, "samples": SAMPLES, "rtol": RTOL}}
     omega0 = physics.coefficients(physics.Scenario.from_dict(data)).omega0
     data["mass"]["Omega"] = Omega = omega0 / eps
-    # chi_eq is proportional to lam_q
-    per_unit = equivalent_chi(physics.Scenario.from_dict(data))
-    data["mass"]["lam_q"] = Omega * _loguniform(rng, QUADRATIC_CHI) / per_unit
+    chi_eq = _loguniform(rng, QUADRATIC_CHI)  # / Omega; chi_eq is proportional to lam_q, 1 here
+    data["mass"]["lam_q"] = Omega * chi_eq / equivalent_chi(physics.Scenario.from_dict(data))
     sc = physics.Scenario.from_dict(data)
     co = physics.coefficients(sc)
     # theta' = gamma sin|sin| cos^5 (seed 000 (2.9)): the slow time is theta0 over the starting rate, capped where
@@ -175,7 +174,6 @@ def quadratic_case(rng) -> tuple[dict, dict]:
     slow_time = theta0 / rate0
     n_slow = _uniform(rng, N_SLOW)
     data["run"]["t_end"] = float(n_slow * slow_time)
-    chi_eq = per_unit * data["mass"]["lam_q"] / Omega
     desc = dict(system="moving_mass", kind="quadratic " + ("oblate" if ca > 1 else "prolate"), C_over_A=ca,
                 B_over_A=1.0, kappa=kappa, eta=eta, theta0=theta0, damping=f"chi_eq/Omega {chi_eq:.3g}",
                 cavity=False, medium=False, braking=False, detuning="", n_slow=n_slow, slow_time=slow_time,
@@ -305,6 +303,11 @@ def wheel_case(rng) -> tuple[dict, dict]:
         return data, desc
 
 
+# the sets drawn on their own (``--system``): their draw and their files' stem; the other systems' scenarios are
+# the whole study's draws, filtered
+OWN_SETS = {"wheel": (wheel_case, "fidelity_wheel"), "quadratic_friction": (quadratic_case, "fidelity_quadratic")}
+
+
 def draw(seed: int, n: int, system: str | None = None) -> list[tuple[dict, dict]]:
     """n (scenario dict, descriptors) pairs, deterministic for the seed: two thirds moving mass, one third
     pendulum. A draw the scenario code refuses is redrawn (counted in the descriptors as ``redraws``)."""
@@ -314,8 +317,7 @@ def draw(seed: int, n: int, system: str | None = None) -> list[tuple[dict, dict]
     out = []
     redraws = 0
     while len(out) < n:
-        own = {"wheel": wheel_case, "quadratic_friction": quadratic_case}.get(system)
-        make = own or (mass_case if len(out) % 3 != 2 else pendulum_case)
+        make = OWN_SETS[system][0] if system in OWN_SETS else mass_case if len(out) % 3 != 2 else pendulum_case
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
@@ -652,7 +654,7 @@ def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, comm
         system: str | None = None) -> dict:
     start = time.perf_counter()
     cases = draw(seed, n, system)
-    if system in ("moving_mass", "spherical_pendulum"):  # the same draws as the whole study, only this system's
+    if system is not None and system not in OWN_SETS:  # the same draws as the whole study, only this system's
         cases = [c for c in cases if c[1]["system"] == system]
     jobs = [(i, data, desc, MAX_STEPS[quick]) for i, (data, desc) in enumerate(cases)]
     rows: list[dict] = []
@@ -664,8 +666,7 @@ def run(n: int, seed: int, quick: bool, out: Path, img: Path, workers: int, comm
         for job in jobs:
             rows.extend(run_case(job))
             print(f"  scenario {job[0] + 1}/{len(jobs)}: {rows[-1]['system']} {rows[-1]['status']}", flush=True)
-    own = {"wheel": "fidelity_wheel", "quadratic_friction": "fidelity_quadratic"}  # the sets drawn on their own
-    stem = own.get(system, "fidelity") + ("_quick" if quick else "")
+    stem = (OWN_SETS[system][1] if system in OWN_SETS else "fidelity") + ("_quick" if quick else "")
     meta = dict(command=command, quick=quick, n=n, seed=seed, workers=workers,
                 max_full_steps=MAX_STEPS[quick], date=datetime.now(UTC).isoformat(timespec="seconds"),
                 machine=machine(), wall_total_s=time.perf_counter() - start)
@@ -696,7 +697,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results", help="CSV and meta JSON folder")
     ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img", help="chart folder")
     ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
-    ap.add_argument("--system", choices=("moving_mass", "spherical_pendulum", "wheel", "quadratic_friction"),
+    ap.add_argument("--system", choices=("moving_mass", "spherical_pendulum", *OWN_SETS),
                     default=None, help="run only this system's scenarios of the drawn set; wheel and "
                                        "quadratic_friction (the moving mass against quadratic friction): their own "
                                        "sets, written to fidelity_wheel[_quick].csv, fidelity_quadratic[_quick].csv")

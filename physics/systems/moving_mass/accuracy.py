@@ -27,7 +27,7 @@ and ``auto`` runs the full model.
 
 Quadratic friction alone (seed 000 section 2) takes the same terms along its own closed form (2.11): its damping
 weakens as the mass's speed falls, so the domain reads the viscous chi that gives the same slow rate at the start
-(``equivalent_chi``), and its own calibration set sets ``SAFETY_QUADRATIC``.
+(``equivalent_chi``), and its own calibration sets fit the rate term's shape part and a limit on delta.
 """
 
 from __future__ import annotations
@@ -41,7 +41,6 @@ import numpy as np
 from physics.registry import Condition, get_model
 from physics.scenario.scenario import Scenario
 from physics.systems.choice import cheapest_within
-from physics.systems.moving_mass.closed000 import quadratic_friction_theta
 from physics.systems.moving_mass.coefficients import coefficients
 from physics.systems.moving_mass.validity import FAST_SPRING, structural_conditions, structural_failures
 
@@ -63,10 +62,9 @@ SAFETY = 2.0
 # the shape part of delta doubles. Where delta passes DOMAIN_DELTA_QUADRATIC the rate error is no longer a small
 # time shift (one scenario at delta 0.33 of seed 41 was 2.8x its unscaled sum, with the viscous shape part) and
 # no claim is made. On seed 15 the worst actual / unscaled sum is then 1.51 and the median unscaled sum / actual
-# 1.22: the viscous SAFETY leaves 1.32x beyond the worst case
+# 1.22: SAFETY, the viscous one, leaves 1.32x beyond the worst case
 RATE_SHAPE_QUADRATIC = 2 * RATE_SHAPE
 DOMAIN_DELTA_QUADRATIC = 0.3
-SAFETY_QUADRATIC = SAFETY
 DOMAIN_CHI_QUADRATIC = (0.05, 3.0)  # chi_eq / Omega: the set's range
 
 # The domain the study covers: (name, value of sc, limit). The estimate claims nothing outside it.
@@ -131,11 +129,6 @@ def slow_path(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     averaged and closed models agree to rounding; where no closed form exists, quadratic friction with other
     parts, the estimate makes no claim before it gets here)."""
     t = np.linspace(0.0, sc.run.t_end, PATH_SAMPLES)
-    if sc.mass.lam_q > 0:
-        # quadratic friction alone (structural_conditions): theta from (2.11) and a constant |G|, without the
-        # closed model's attitude, whose phase quadrature over a long run took minutes
-        co = coefficients(sc)
-        return t, quadratic_friction_theta(t, co.theta0, co.gamma), np.full_like(t, co.G0)
     tr = get_model("moving_mass", "closed").solve(sc, t)
     return np.asarray(tr.t), np.asarray(tr.theta), np.asarray(tr.K)
 
@@ -191,11 +184,10 @@ def delta(sc: Scenario) -> float:
 
 
 def estimate(sc: Scenario, parts: Terms | None = None) -> float:
-    """SAFETY (SAFETY_QUADRATIC for quadratic friction) x (shift + delta rate + EXTERNAL external), at most pi
-    (theta lies in [0, pi])."""
+    """SAFETY x (shift + delta rate + EXTERNAL external), at most pi (theta lies in [0, pi])."""
     parts = parts or terms(sc)
     raw = parts.shift + delta(sc) * parts.rate + EXTERNAL * parts.external
-    return float(min(math.pi, (SAFETY_QUADRATIC if sc.mass.lam_q > 0 else SAFETY) * raw))
+    return float(min(math.pi, SAFETY * raw))
 
 
 def averaged_error_bound(sc: Scenario) -> float:
@@ -224,6 +216,5 @@ def choose(sc: Scenario) -> tuple[str, str]:
 
 METHOD = ("the full model's own start against theta0, carried along the cheaper model's theta(t) with a measured "
           "O(eps^2) rate error and the medium's and brake's turn of K, "
-          f"x{SAFETY:g} safety (quadratic friction: judged by the viscous chi of the same slow rate, "
-          f"x{SAFETY_QUADRATIC:g}); calibrated against the full model (python -m bench fidelity, "
-          "seed 15), checked on seed 41 (docs/models.md)")
+          f"x{SAFETY:g} safety (quadratic friction: judged by the viscous chi of the same slow rate); calibrated "
+          "against the full model (python -m bench fidelity, seed 15), checked on seed 41 (docs/models.md)")
