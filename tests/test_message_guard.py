@@ -11,7 +11,7 @@ from types import SimpleNamespace
 
 import pytest
 import viser
-from test_security_upload_stream import _msg  # viser's wire format, as that file's raw client speaks it
+from test_security_upload_stream import _msg, _session  # viser's wire format and the new client's session
 from viser import _messages as msgs
 from websockets.asyncio.client import connect
 
@@ -132,12 +132,13 @@ def _wait(predicate, deadline_s: float = 60.0):
 def _run(app, script) -> None:
     """Connect a raw client, let the session build, then ``await script(ws, session)``."""
     async def go():
+        before = set(app.sessions)
         async with connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
                            max_size=None, compression=None, open_timeout=60) as ws:
             await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
                                fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
                                look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
-            session = await asyncio.to_thread(_wait, lambda: next(iter(app.sessions.values()), None))
+            session = await asyncio.to_thread(_session, app, before)
             await script(ws, session)
 
     asyncio.run(go())

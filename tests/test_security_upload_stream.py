@@ -32,12 +32,15 @@ def app():
     a.close()
 
 
-def _session(app, deadline_s: float = 60.0):
+def _session(app, before, deadline_s: float = 60.0):
+    """The session built for this client: a new client id, not the last test's client still closing."""
     end = time.monotonic() + deadline_s
-    while not app.sessions and time.monotonic() < end:
+    while time.monotonic() < end:
+        new = [s for cid, s in list(app.sessions.items()) if cid not in before]
+        if new:
+            return new[0]
         time.sleep(0.05)
-    assert app.sessions, "no session was built for the raw client"
-    return next(iter(app.sessions.values()))
+    raise AssertionError("no session was built for the raw client")
 
 
 def _send(app, messages_of) -> object:
@@ -45,12 +48,13 @@ def _send(app, messages_of) -> object:
     holder = {}
 
     async def go():
+        before = set(app.sessions)
         async with connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
                            max_size=None, compression=None, open_timeout=60) as ws:
             await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
                                fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
                                look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
-            session = await asyncio.to_thread(_session, app)
+            session = await asyncio.to_thread(_session, app, before)
             holder["session"] = session
             for m in messages_of(session):
                 await ws.send(m)
@@ -117,13 +121,14 @@ def test_one_part_over_the_message_bound_is_refused_at_its_header(app):
     closed = {}
 
     async def go():
+        before = set(app.sessions)
         # not ``async with``: its closing of a connection the server has already closed fails inside asyncio
         ws = await connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
                            max_size=None, compression=None, open_timeout=60)
         await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
                            fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
                            look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
-        session = await asyncio.to_thread(_session, app)
+        session = await asyncio.to_thread(_session, app, before)
         uuid = _upload_uuid(session)
         await ws.send(_msg(type="FileTransferStartUpload", source_component_uuid=uuid, transfer_uuid="one",
                            filename="x.toml", mime_type="application/toml", part_count=1, size_bytes=1000))
