@@ -13,7 +13,7 @@ import pytest
 
 import physics
 from physics.reference.problems import moving_mass
-from physics.systems.moving_mass import forced_response
+from physics.systems.moving_mass import accuracy, forced_response
 from physics.systems.moving_mass.coefficients import coefficients
 from physics.systems.moving_mass.models import quasi_static_displacement
 
@@ -80,3 +80,13 @@ def test_the_steady_dissipation_tends_to_the_averaged_models_as_eps_squared():
     order = math.log(abs(excess(0.02)) / abs(excess(0.01))) / math.log(2.0)
     assert order == pytest.approx(2.0, abs=0.05)
 
+
+def test_a_prediction_that_cannot_be_made_claims_nothing(monkeypatch):
+    """A resting mass's transient that does not finish within TRANSIENT_STEPS: the estimate is inf (no claim, so
+    auto runs the full model), not a number read off a partial run."""
+    sc = CASES["oblate, mass at rest"]
+    assert math.isfinite(accuracy.estimate(sc))
+    monkeypatch.setattr(forced_response, "TRANSIENT_STEPS", 10)
+    t, th, G = accuracy.slow_path(sc)
+    assert np.all(np.isnan(forced_response.predicted_theta(sc, t, th, G)))
+    assert accuracy.estimate(sc) == math.inf
