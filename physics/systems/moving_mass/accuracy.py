@@ -144,9 +144,8 @@ def start_offset(sc: Scenario) -> float:
 
 def terms(sc: Scenario) -> Terms:
     t, theta, G = slow_path(sc)
-    full = forced_response.predicted_theta(sc, t, theta, G)
-    if full is not None:  # NaN where the prediction could not be made: then no claim
-        gap = float(np.max(np.abs(full - theta)))
+    gap = forced_response.predicted_gap(sc, t, theta, G)
+    if gap is not None:  # NaN where the prediction could not be made: then no claim
         return Terms(predicted=gap if math.isfinite(gap) else math.inf)
     rate = np.abs(np.gradient(theta, t)) if len(t) > 2 else np.zeros_like(t)
     off = start_offset(sc)

@@ -182,6 +182,26 @@ def predicted_theta(sc: Scenario, t: np.ndarray, cheap_theta: np.ndarray, cheap_
     (``applies``), NaN where it cannot be made (a transient past TRANSIENT_STEPS, an integration that fails). The
     cheaper model's theta and |G| at ``t`` set the range of the rate table. Past the point where a brake has taken
     |G| below the table, theta_K stays where it was (its rates vanish with |G|)."""
+    out = _predicted(sc, t, cheap_theta, cheap_G)
+    return None if out is None else out[0]
+
+
+def predicted_gap(sc: Scenario, t: np.ndarray, cheap_theta: np.ndarray, cheap_G: np.ndarray) -> float | None:
+    """max |theta_K - theta_cheap| as predicted, over ``t`` and, for a mass at rest, over the full model's own
+    samples of its transient too (its wobble peaks between the path's times); None where this does not apply, NaN
+    where it cannot be made."""
+    out = _predicted(sc, t, cheap_theta, cheap_G)
+    if out is None:
+        return None
+    theta, early = out
+    gap = float(np.max(np.abs(theta - cheap_theta)))
+    if early is not None:
+        gap = max(gap, float(np.max(np.abs(early[1] - np.interp(early[0], t, cheap_theta)))))
+    return gap
+
+
+def _predicted(sc: Scenario, t: np.ndarray, cheap_theta: np.ndarray, cheap_G: np.ndarray):
+    """(theta_K at t, the transient's (t, theta_K) or None), or None where this does not apply."""
     if not applies(sc):
         return None
     t = np.asarray(t, dtype=float)
@@ -195,11 +215,11 @@ def predicted_theta(sc: Scenario, t: np.ndarray, cheap_theta: np.ndarray, cheap_
         t0 = min(transient_time(sc), float(t[-1]))
         run = _transient(sc, t0)
         if run is None:
-            return np.full(t.shape, np.nan)
+            return np.full(t.shape, np.nan), None
         tt, th, K = run
         thK0, early = float(th[-1]), (tt, th)
         if t0 >= t[-1]:
-            return np.interp(t, *early)
+            return np.interp(t, *early), early
     grid = _grid(thK0, cheap_theta)
     g_line, s_line = at_K(sc, grid, K)
     order = np.argsort(s_line["thK"])
@@ -213,13 +233,13 @@ def predicted_theta(sc: Scenario, t: np.ndarray, cheap_theta: np.ndarray, cheap_
         sol = solve_ivp(lambda _s, y: spline(y), (t0, float(t[-1])), [thG0], t_eval=t[later], rtol=1e-10,
                         atol=1e-12, method="DOP853")
         if not sol.success:
-            return np.full(t.shape, np.nan)
+            return np.full(t.shape, np.nan), None
         out[later] = np.interp(sol.y[0], grid, s_line["thK"])
     else:
         out[later] = _varying_K(sc, t[later], t0, g0, thG0, grid, cheap_G)
     if early is not None:
         out[~later] = np.interp(t[~later], *early)
-    return out
+    return out, early
 
 
 def _varying_K(sc: Scenario, t: np.ndarray, t0: float, g0: float, thG0: float, grid: np.ndarray,
