@@ -22,6 +22,7 @@ import csv
 import json
 import math
 import re
+import textwrap
 import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
@@ -547,7 +548,7 @@ def chart(rows: list[dict], path: Path, title: str) -> None:
            ylabel="actual max |theta - theta_full| (rad)", title="no estimate, or no claim (inf): auto runs full")
     bx.set_xticklabels([f"{s}\n{f}" for s, f in bare], fontsize=8)
     bx.grid(True, which="both", alpha=0.3)
-    fig.suptitle(title)
+    fig.suptitle(textwrap.fill(title, 150))  # a long command would run off the page
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
