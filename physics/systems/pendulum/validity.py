@@ -19,12 +19,11 @@ import numpy as np
 from physics.registry import Condition
 from physics.scenario.scenario import Scenario
 from physics.systems.choice import cheapest_within
-from physics.systems.pendulum.accuracy import SAFETY, averaged_error_bound, scenario_parts
+from physics.systems.pendulum.accuracy import SAFETY, SWING_MAX, averaged_error_bound, scenario_parts
 from physics.systems.pendulum.geometry import pendulum_system
 from physics.systems.pendulum.linear import spherical_linear
 
 ASYM_MAX = 1e-9  # |A - B| / A: the averaged equations are for a symmetric carrier
-SWING_MAX = 1.0  # rad, the bob's largest swing in linear theory: the calibration study's range (bench fidelity)
 # the amplitude-dependent detuning (from the bob's swing in linear theory and theta0) over the resonance's width:
 # the calibration studies' range (their largest 56.5, seeds 15, 101, 202, 303). Beyond 1 the nonlinearity can pull
 # the pendulum across the resonance; since the detuning gap reads the resonance too (accuracy.parts), the unscaled
