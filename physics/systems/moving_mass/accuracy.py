@@ -201,4 +201,4 @@ METHOD = ("the full model's theta predicted from the mass's steady forced motion
           "mass at rest: the full model over its transient first), its largest distance from the cheaper theta "
           f"x{SAFETY_FORCED:g}; quadratic friction alone: the full model's own start and a measured O(eps^2) rate "
           f"error along the closed form, judged by the viscous chi of the same slow rate, x{SAFETY:g}; calibrated "
-          "against the full model (python -m bench fidelity, seed 15), checked on seeds 41 and 2027 (docs/models.md)")
+          "against the full model (python -m bench fidelity, seed 15), checked on seed 4099 (docs/models.md)")
