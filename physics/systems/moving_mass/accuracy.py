@@ -72,8 +72,7 @@ class Terms:
     the forced response applies, the others for quadratic friction."""
 
     predicted: float | None = None  # max |theta_full - theta_cheap| the forced response predicts
-    offset: float = 0.0  # |theta_full(0) - theta0|
-    shift: float = 0.0  # offset max(1, max |theta'| / |theta'(0)|)
+    shift: float = 0.0  # |theta_full(0) - theta0| max(1, max |theta'| / |theta'(0)|)
     rate: float = 0.0  # max_t t |theta'(t)|
 
 
@@ -126,10 +125,7 @@ def slow_path(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _offset_at(sc: Scenario) -> float:
-    full = get_model("moving_mass", "full")
-    p = full.pack(sc)
-    y0 = np.asarray(full.initial_state(sc, p), dtype=float)
-    return abs(float(full.observe(np.zeros(1), y0[None, :], p, sc).theta[0]) - coefficients(sc).theta0)
+    return abs(forced_response.full_start(sc)[1] - coefficients(sc).theta0)
 
 
 def start_offset(sc: Scenario) -> float:
@@ -151,7 +147,7 @@ def terms(sc: Scenario) -> Terms:
     off = start_offset(sc)
     r0 = rate[0] if len(rate) else 0.0
     grow = float(np.max(rate)) / r0 if r0 > 0 else (math.inf if off > 0 else 1.0)
-    return Terms(offset=off, shift=off * max(1.0, grow) if off > 0 else 0.0,
+    return Terms(shift=off * max(1.0, grow) if off > 0 else 0.0,
                  rate=float(np.max(t * rate)) if len(t) else 0.0)
 
 

@@ -154,6 +154,13 @@ def _full_start(sc: Scenario):
     return full, p, np.asarray(full.initial_state(sc, p), dtype=float)
 
 
+def full_start(sc: Scenario) -> tuple[float, float]:
+    """(|K|, theta_K) of the full model's initial state."""
+    full, p, y0 = _full_start(sc)
+    tr = full.observe(np.zeros(1), y0[None, :], p, sc)
+    return float(tr.K[0]), float(tr.theta[0])
+
+
 def _transient(sc: Scenario, t_end: float) -> tuple[np.ndarray, np.ndarray, float] | None:
     """(t, theta_K, |K| at the end) of the full model over [0, t_end], or None where it does not finish within
     TRANSIENT_STEPS (or the brake stops the body first)."""
@@ -207,9 +214,7 @@ def _predicted(sc: Scenario, t: np.ndarray, cheap_theta: np.ndarray, cheap_G: np
     t = np.asarray(t, dtype=float)
     t0, early = 0.0, None
     if sc.initial.mass_state == "quasistatic":
-        full, p, y0 = _full_start(sc)
-        tr = full.observe(np.zeros(1), y0[None, :], p, sc)
-        K, thK0 = float(tr.K[0]), float(tr.theta[0])
+        K, thK0 = full_start(sc)
     else:
         # a mass at rest: the full model over its transient, then the steady motion from where it ends
         t0 = min(transient_time(sc), float(t[-1]))

@@ -95,7 +95,8 @@ def parts(p: SphericalLinear, wx: float, wy: float, t_end: float) -> Parts:
     u0 = np.array([wx + 1j * wy, 0.0 + 0j])
     theta_avg, _ = averaged_theta(co, u0, p.W, t)
     theta0 = float(theta_lin[0])
-    shift = (p.C / co.A) * p.W * theta0**2 / 2 + AMPLITUDE_SHIFT * p.omega0 * a**2
+    spin_up = (p.C / co.A) * p.W * theta0**2 / 2
+    shift = spin_up + AMPLITUDE_SHIFT * p.omega0 * a**2
     g = math.sqrt(abs(co.kappa1 * co.kappa2))
     # the bob's swing at exact resonance, where the exchange with the carrier is fastest: a bob whose swing pulls it
     # towards the resonance swings wider the closer it gets, and may jump there (a hardening oscillator's jump);
@@ -104,7 +105,7 @@ def parts(p: SphericalLinear, wx: float, wy: float, t_end: float) -> Parts:
     resonant.sigma = 0.0
     th_resonant, U_resonant = averaged_theta(resonant, u0, p.W, t)
     a_jump = min(float(np.max(np.abs(U_resonant[:, 1]))), SWING_MAX)
-    reach = max(shift, (p.C / co.A) * p.W * theta0**2 / 2 + AMPLITUDE_SHIFT * p.omega0 * max(a, a_jump) ** 2)
+    reach = spin_up + AMPLITUDE_SHIFT * p.omega0 * max(a, a_jump) ** 2  # at least shift
     # the detuning anywhere in sigma +- shift: the averaged theta moves most at either end or, where the swing can
     # carry sigma to the resonance (|sigma| < reach), at sigma = 0
     detuning_gap = float(np.max(np.abs(th_resonant - theta_avg))) if abs(co.sigma) < reach else 0.0
