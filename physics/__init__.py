@@ -6,6 +6,7 @@ Headless (numpy, scipy, numba); never imports the app or viser. The public API:
     tr = physics.simulate(sc)            # Trajectory: t, theta, K, E, omega, quat, internal
     physics.derived(sc)                  # F, D, L, H, P, Gamma1, ..., T, eps, Re, auto's choice
     physics.sweep(sc, vary={"mass.chi": "1:20:5"}, metric="decay_time")   # SweepTable (docs/sweeps.md)
+    physics.design(sc, vary={"pendulum.k": (20, 80)}, objective="decay_time")   # DesignResult (docs/guide.md)
 """
 
 from physics.core import figure
@@ -39,6 +40,7 @@ from physics.stepping.live import LiveRun
 from physics.stepping.simulate import simulate
 from physics.stepping.stepper import brake_and_medium
 from physics.stepping.warm import start as build_kernels
+from physics.studies.design import OBJECTIVES, DesignResult, Evaluation, design
 from physics.studies.metrics import METRICS, Metric
 from physics.studies.sweep import SweepTable, axis_values, check_point, numeric_keys, point_scenario, resolve_key, sweep
 from physics.studies.work_precision import Row as WorkPrecisionRow
@@ -60,6 +62,7 @@ __all__ = [
     "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "LiveRun", "Mass", "Medium", "Model",
     "METRICS", "Metric", "REGISTRY", "Run", "Scenario", "ScenarioError", "SweepTable", "Trajectory", "ValidityWarning",
     "averaged_conditions", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "sweep",
+    "OBJECTIVES", "DesignResult", "Evaluation", "design",
     "DEFAULT_ACCURACY", "PIVOTS", "carry_state", "choose_fidelity", "closed", "resolved_stiffness", "coefficients",
     "default_scenario", "derived", "end_state", "EndLocked", "EndState", "NoEndState",
     "get_model", "get_system", "initial_G", "load_builtin", "Param", "register_model", "register_system",

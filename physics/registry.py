@@ -250,6 +250,8 @@ class System:
     physics/systems/end_state.py: an ``EndLocked`` (which entries of its full model's state are the part's
     coordinates, varied to find the relative equilibrium, and which are their rates, zero there), or a sentence
     saying why its scene has no fixed end state (no dissipation); None: the system states no end state.
+    ``tunings(sc)``: the papers' tuning rules for its part, name -> {dotted key: value} (what a design is
+    compared with); a rule the scenario cannot take raises ScenarioError.
     ``quantities``: (unit, meaning) of ``derived``'s keys for ``physics info``; ``quantity(name)`` the same for
     keys built at run time (one per pendulum), or None.
     ``figure(sc, state, view)`` the part's picture as plain primitives in body coordinates
@@ -281,6 +283,7 @@ class System:
     start_part: Callable | None = None
     check_run: Callable[[Any], None] | None = None
     braking_time: Callable[[float, float, float], float] | None = None
+    tunings: Callable[[Any], dict[str, dict[str, float]]] | None = None
     torque_direction: Callable[[Any, Any, Any], Any] | None = None
     end_locked: Callable[[Any], Any] | None = None
     quantities: dict[str, tuple[str, str]] = field(default_factory=dict)

@@ -13,6 +13,8 @@ from physics.registry import Param, System, Table, register_system
 from physics.systems.end_state import EndLocked
 from physics.systems.pendulum import averaged, models, validity  # noqa: F401  (registers the models)
 from physics.systems.pendulum.figure import PLANE_ACTIONS, SPHERICAL_ACTIONS, plane_figure, spherical_figure
+from physics.systems.pendulum.geometry import pendulum_system, resonant_stiffness
+from physics.systems.pendulum.linear import optimal_tuning
 from physics.systems.pendulum.params import Pendulum, PlanePendulum
 from physics.systems.pendulum.quantities import QUANTITIES, quantity
 
@@ -125,6 +127,15 @@ def plane_amplitude(tr, sc) -> float:
 END_SWING = 0.1  # rad: the scale of a bob's swing away from its rest, for the end state's search
 
 
+def spherical_tunings(sc) -> dict[str, dict[str, float]]:
+    """Seed 002's tuning rules for this carrier: resonance (14), which sets k alone, and the exact linear optimum
+    of docs/models.md B.5, which sets k and c_d (ScenarioError for a prolate carrier, which neither can tune)."""
+    system = pendulum_system(sc)
+    k_opt, c_opt = optimal_tuning(system)
+    return {"resonance, seed 002 (14)": {"pendulum.k": resonant_stiffness(system, system.bobs[0])},
+            "linear optimum, seed 002 (docs/models.md B.5)": {"pendulum.k": float(k_opt), "pendulum.c_d": float(c_opt)}}
+
+
 def spherical_end(sc) -> EndLocked | str:
     """The end state's coordinates (docs/models.md, "The energy sink's end state"): the gimbal angles alpha,
     beta (state entries 3, 4; rates 5, 6), in the Cardan chart the run starts in."""
@@ -200,7 +211,7 @@ SPHERICAL = register_system(System(
     error_bounds=validity.error_bounds, error_method=validity.METHOD,
     values=lambda sc, item=None: _values(sc, sc.pendulum), amplitude=spherical_amplitude,
     quantities=QUANTITIES, quantity=quantity, figure=spherical_figure, actions=SPHERICAL_ACTIONS,
-    end_locked=spherical_end,
+    end_locked=spherical_end, tunings=spherical_tunings,
 ))
 
 PLANE = register_system(System(
