@@ -1,4 +1,5 @@
-"""Command line: ``python -m physics run|info [SCENARIO.toml]``.
+"""Command line: ``python -m physics run|info [SCENARIO.toml]``, ``python -m physics design SCENARIO.toml --vary
+KEY=LO:HI ...``.
 
 Bad input exits with status 2 and one line naming the parameter; a numerical fault exits with 1 and
 one line; Ctrl-C stops within a fraction of a second ("interrupted", status 130, physics/__main__.py).
@@ -24,6 +25,8 @@ from physics.scenario.defaults import default_scenario
 from physics.scenario.params import FIDELITIES, METHODS
 from physics.scenario.scenario import Scenario
 from physics.stepping.simulate import simulate
+from physics.studies.design import BUDGET, OBJECTIVES
+from physics.studies.design_cli import run_design
 from physics.systems.derived import derived
 
 
@@ -46,7 +49,23 @@ def _parser() -> argparse.ArgumentParser:
     info = sub.add_parser("info", help="print derived quantities, one 'name = value unit  meaning' per line")
     info.add_argument("scenario", nargs="?", help="scenario TOML file")
     info.add_argument("--json", action="store_true", help="print them as JSON, every number to full precision")
-    for p in (run, info):
+    des = sub.add_parser("design", help="find the parameters within bounds that make a metric best (a damper's "
+                         "design)")
+    des.add_argument("scenario", help="scenario TOML file")
+    des.add_argument("--vary", action="append", required=True, metavar="KEY=LO:HI",
+                     help="a parameter and its bounds, e.g. k=10:80 or pendulum.c_d=1:40 (one to four)")
+    des.add_argument("--objective", default="decay_time", choices=tuple(OBJECTIVES),
+                     help="the metric to make best (decay_time: smallest positive; energy_dissipated: largest; "
+                          "others: smallest)")
+    des.add_argument("--budget", type=int, default=BUDGET, help=f"most runs (default {BUDGET})")
+    des.add_argument("--accuracy", type=float, help="theta accuracy (rad) auto's points run at (default: from "
+                                                    "the objective)")
+    des.add_argument("--workers", type=int, help="local processes (default: all cores)")
+    des.add_argument("--dask", metavar="ADDRESS", help="run the points on this dask.distributed scheduler")
+    des.add_argument("--out", help="write every run of the design as CSV to this file")
+    des.add_argument("--save", help="write the optimum as a scenario TOML file")
+    des.add_argument("--json", action="store_true", help="print the result as JSON")
+    for p in (run, info, des):
         p.error = ap.error  # subparsers get the same one-line errors
     return ap
 
@@ -122,6 +141,8 @@ def main(argv: list[str] | None = None) -> int:
         warnings.simplefilter("always")
         try:
             sc = _load(args.scenario)
+            if args.command == "design":
+                return run_design(sc, args)
             if args.command == "info":
                 with guarded(sc, "computing the derived quantities"):
                     values = derived(sc)

@@ -3,8 +3,15 @@ executor gives the same design; bad input is one message; a stopped design keeps
 
 from __future__ import annotations
 
+import csv
 import math
+import os
+import re
+import signal
+import subprocess
+import sys
 import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -161,3 +168,57 @@ def test_a_stopped_design_keeps_its_best_point():
     assert math.isnan(result.value)  # the full model's check did not run
     finite = [e.objective for e in result.path if e.objective > 0]
     assert result.cheap_value == min(finite)
+
+
+def test_cli_design_prints_units_writes_csv_and_the_optimum(tmp_path):
+    out, save = tmp_path / "design.csv", tmp_path / "best.toml"
+    scenario = tmp_path / "pend.toml"
+    scenario.write_text(_pendulum().with_values(**{"run.t_end": 20.0, "run.samples": 201}).to_toml())
+    proc = subprocess.run([sys.executable, "-m", "physics", "design", str(scenario), "--vary", "k=20:80",
+                           "--vary", "c_d=1:40", "--budget", "60", "--out", str(out), "--save", str(save),
+                           "--workers", "1"], capture_output=True, text=True, cwd=ROOT, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "optimum: pendulum.k = " in proc.stdout and "N m/rad" in proc.stdout and "N m s/rad" in proc.stdout
+    assert re.search(r"^design: \d+/60 runs, best decay_time ", proc.stderr, re.M)
+    with open(out, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) <= 60 and rows[-1]["phase"] == "check"
+    best = physics.Scenario.load(save)
+    value = float(rows[-1]["decay_time"])
+    assert physics.METRICS["decay_time"](physics.simulate(best, fidelity="full"), best) == value
+    assert f"{value:.6g} s (full model" in proc.stdout
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--vary", "k"], "must be KEY=LO:HI"),
+    (["--vary", "k=80:20"], "these are reversed"),
+    (["--vary", "k=1:2", "--objective", "speed"], "invalid choice"),
+    (["--vary", "k=1:2", "--budget", "3"], "is too small"),
+])
+def test_cli_bad_input_is_one_line_and_status_2(argv, message):
+    proc = subprocess.run([sys.executable, "-m", "physics", "design", "assets/scenarios/pendulum_resonant.toml",
+                           *argv], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert proc.returncode == 2 and message in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "Traceback" not in proc.stderr
+
+
+def test_ctrl_c_ends_the_design_with_what_it_found(tmp_path):
+    out = tmp_path / "design.csv"
+    scenario = tmp_path / "pend.toml"  # runs of about a second: the design is stopped within its start
+    scenario.write_text(_pendulum().with_values(**{"run.t_end": 20000.0, "run.samples": 2001}).to_toml())
+    proc = subprocess.Popen([sys.executable, "-m", "physics", "design", str(scenario), "--vary", "k=20:80",
+                             "--vary", "c_d=1:40", "--out", str(out), "--workers", "2"], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    line = ""
+    while "design: " not in line and time.monotonic() < deadline:
+        line = proc.stderr.readline()
+    assert "design: " in line, "no progress line"
+    os.kill(proc.pid, signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 0, stderr
+    assert "stopped: the best point so far follows" in stdout and "Traceback" not in stderr
+    with open(out, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert 1 <= len(rows) < 25 and all(r["phase"] == "start" for r in rows)
+    assert "optimum: pendulum.k = " in stdout and "not checked on the full model" in stdout
