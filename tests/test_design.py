@@ -222,3 +222,17 @@ def test_ctrl_c_ends_the_design_with_what_it_found(tmp_path):
         rows = list(csv.DictReader(fh))
     assert 1 <= len(rows) < 25 and all(r["phase"] == "start" for r in rows)
     assert "optimum: pendulum.k = " in stdout and "not checked on the full model" in stdout
+
+
+def _blas_threads(tr, sc) -> float:
+    from threadpoolctl import threadpool_info
+
+    return float(max((i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"), default=1))
+
+
+def test_worker_processes_run_one_blas_thread():
+    """Two workers on two cores, each with BLAS's thread per core, made a design's runs 2.3x slower (issue 26)."""
+    sc = _pendulum().with_values(**{"run.t_end": 6.0, "run.samples": 61})
+    result = physics.design(sc, {"pendulum.c_d": (1.0, 40.0)}, _blas_threads, workers=2, budget=20, references=False)
+    in_workers = [e.objective for e in result.path[1:] if e.phase != "check"]  # the first and the check run here
+    assert in_workers and set(in_workers) == {1.0}

@@ -45,7 +45,7 @@ from physics.scenario.meta import BASE_PARAMS
 from physics.scenario.scenario import Scenario
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import FIT_BAND, METRICS
-from physics.studies.sweep import _mp_context, point_scenario, resolve_key
+from physics.studies.sweep import _mp_context, one_blas_thread, point_scenario, resolve_key
 
 # objective -> "min", "max" or "min_positive" (a decay time: the smallest positive; a growing nutation is worst)
 OBJECTIVES = {"decay_time": "min_positive", "braking_time": "min", "theta_end": "min",
@@ -66,7 +66,8 @@ SENSITIVITY_SHARE = 0.05
 class Evaluation:
     """One run of the design: the keys' values, the objective (NaN when the run failed), the model that ran,
     its stated theta error against the full model (rad; 0 for the full model itself), the phase ("start",
-    "refine 1", "refine 2", "check" for the full model's run of the optimum) and the failure's message."""
+    "refine 1", "refine 2", "check" for the full model's run of the optimum), the failure's message and the run's
+    own time (s, where it ran)."""
 
     values: tuple[float, ...]
     objective: float
@@ -74,6 +75,7 @@ class Evaluation:
     error_bound: float
     phase: str
     error: str = ""
+    compute_s: float = 0.0
 
 
 @dataclass
@@ -124,7 +126,8 @@ def evaluate(base: Scenario, keys: tuple[str, ...], values: tuple[float, ...], o
              accuracy: float | None) -> dict:
     """Run one point and read the objective: {"objective", "model", "error_bound", "error"}. Never raises for a
     bad point (a scenario the values make invalid, a failed run): its objective is NaN and ``error`` says why."""
-    row = {"objective": math.nan, "model": "", "error_bound": math.nan, "error": ""}
+    row = {"objective": math.nan, "model": "", "error_bound": math.nan, "error": "", "compute_s": 0.0}
+    start = time.perf_counter()
     try:
         sc = point_scenario(base, dict(zip(keys, values, strict=True)))
         sc = sc.with_values(**{"run.fidelity": fidelity, "run.accuracy": accuracy})
@@ -139,6 +142,7 @@ def evaluate(base: Scenario, keys: tuple[str, ...], values: tuple[float, ...], o
         row["error"] = f"{type(exc).__name__}: {exc}"
     except Exception as exc:  # noqa: BLE001 - one bad point must not end a design
         row["error"] = f"{type(exc).__name__}: {exc}"
+    row["compute_s"] = time.perf_counter() - start
     return row
 
 
@@ -170,8 +174,10 @@ def _score(goal: str, value: float) -> float:
 # ---- executors -------------------------------------------------------------------------------------------
 
 def _quiet_worker() -> None:
-    """A worker leaves Ctrl-C to the design: it finishes its run, and the design keeps it."""
+    """A worker leaves Ctrl-C to the design: it finishes its run, and the design keeps it. Its BLAS runs one
+    thread (sweep.one_blas_thread)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    one_blas_thread()
 
 
 class _Runner:
@@ -351,7 +357,7 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
 
     def record(phase: str, values, row) -> Evaluation:
         e = Evaluation(values=values, objective=row["objective"], model=row["model"],
-                       error_bound=row["error_bound"], phase=phase, error=row["error"])
+                       error_bound=row["error_bound"], phase=phase, error=row["error"], compute_s=row["compute_s"])
         with lock:
             paths.setdefault(phase, []).append(e)
             count["runs"] += 1
@@ -474,13 +480,14 @@ def unit(scenario: Scenario, key: str) -> str:
 
 
 def write_csv(result: DesignResult, path: str | Path) -> None:
-    """The design's path as CSV: the keys, the objective, the model, its stated error, the phase, the error."""
+    """The design's path as CSV: the keys, the objective, the model, its stated error, the phase, the error, the
+    run's own time."""
     with open(path, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
-        w.writerow([*result.keys, result.objective, "model", "error_bound", "phase", "error"])
+        w.writerow([*result.keys, result.objective, "model", "error_bound", "phase", "error", "compute_s"])
         for e in result.path:
             w.writerow([*(repr(v) for v in e.values), repr(e.objective), e.model, repr(e.error_bound), e.phase,
-                        e.error])
+                        e.error, f"{e.compute_s:.6f}"])
 
 
 __all__ = ["OBJECTIVES", "DesignResult", "Evaluation", "accuracy_for", "design", "evaluate", "unit", "write_csv"]
