@@ -376,6 +376,11 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
                 start_points.append((_score(goal, e.objective), x))
         except KeyboardInterrupt:  # keep what ran; no refinement starts
             stop.set()
+        # auto's choice costs a cost probe and an error estimate per run: where it chose the full model at every
+        # start point, the refinements run the full model directly
+        all_full = fidelity == "auto" and all(e.model.endswith("/full") or e.error for e in paths["start"])
+        if all_full:
+            runner.tail = (objective, "full", None)
         # refinements from the best distinct start points, side by side
         ranked = sorted((p for p in start_points if math.isfinite(p[0])), key=lambda p: p[0])
         scale_f = abs(ranked[0][0]) if ranked and ranked[0][0] != 0 else 1.0
@@ -414,6 +419,8 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
               f"(Nelder-Mead, bounded) from the best {len(threads)}, on "
               + ", ".join(f"{k} ({'log' if lg else 'linear'})" for k, lg in zip(keys, scale.log, strict=True))
               + f"; points on fidelity {fidelity}" + (f" at accuracy {accuracy:.3g} rad" if accuracy else "")
+              + ("; auto ran the full model at every start point, so the refinements ran it directly" if all_full
+                 else "")
               + ("; the optimum's value from the full model" if check is not None else "; stopped before the "
                  "full model's check"))
     return DesignResult(base=scenario, keys=tuple(keys), bounds=tuple(bounds), objective=name, unit=unit, goal=goal,
