@@ -24,6 +24,7 @@ STUDIES = {
     "fidelity": ("fidelity", "cheaper fidelities' actual theta error against their stated estimate (issue 15)"),
     "corrections": ("corrections", "the evidence figures of docs/corrections.md, recomputed (issue 17)"),
     "challenge": ("challenge", "the braking challenge's scripted player against the optimal law, every level"),
+    "design": ("design", "a damper's design against the 20 x 20 grid over the same bounds: runs, wall time, optimum"),
     "explorer-startup": ("explorer_startup", "time from `python -m app` to the scene drawn in chromium (--cold: "
                                              "first start)"),
 }

@@ -38,6 +38,7 @@ OPTIONS = {
     "fidelity": ["--quick", "--n", "--seed", "--out", "--img", "--workers", "--system"],
     "corrections": ["--out"],
     "challenge": ["--starts", "--reactions", "--out", "--img"],
+    "design": ["--n", "--workers", "--out", "--img"],
     "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
 }
 
