@@ -260,3 +260,22 @@ def test_a_compare_parameter_not_offered_is_refused_in_words_not_raised():
         assert panel._seq == before
         assert e.error.startswith("parameter: 'not a parameter' refused; expected one of ")
         assert panel._labels()[0] in e.error
+
+
+def test_several_sliders_at_once_are_one_difference():
+    """A design's optimum sets two or three sliders: the second run takes them all, its labels name them all, and a
+    bad pair is refused naming it."""
+    e = Engine()
+    c = on(e, (compare.SLIDERS, (("mass.chi", 2.5), ("mass.m", 0.05))))
+    assert c.scenario.mass.chi == 2.5 and c.scenario.mass.m == 0.05
+    assert e.scenario.mass.chi != 2.5 and e.scenario.mass.m != 0.05
+    assert "chi = 2.5" in c.diff.label() and "m = 0.05" in c.diff.label()
+    assert "chi = " in c.diff.own_label(e.scenario) and "m = " in c.diff.own_label(e.scenario)
+    ticks(e, 5)
+    assert c.run.t == e.run.t > 0
+    for bad, words in ((("mass.chi", 1.0), ("mass.chi", 2.0)), "different sliders"), \
+                      ((("mass.nope", 1.0),), "is not a slider's parameter"), \
+                      ((("mass.m", float("nan")),), "is not a finite number"), \
+                      ("chi", "not a list of"):
+        with pytest.raises(ValueError, match=words):
+            compare.parse((compare.SLIDERS, bad))

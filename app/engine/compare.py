@@ -1,5 +1,6 @@
 """Compare mode: a second live run of the same scene with one difference the user picked (another value of
-one slider's parameter, or another fidelity), stepped on the engine's clock. No viser here: the engine owns
+one slider's parameter, several sliders' values at once (a design's optimum), or another fidelity), stepped
+on the engine's clock. No viser here: the engine owns
 a ``Comparison`` (``engine.compare``, None when off) and calls it from four places: ``_restarted`` (the
 first run started again: so does the second, from the same state, K and attitude, with the difference carried
 onto it), ``_note_edit`` (an
@@ -25,15 +26,16 @@ from .history import DecimatingStore
 
 PLACES = ("beside", "superimposed")  # where the second body is drawn (app.scene.compare_view)
 CHALLENGE = "challenge"  # a Difference's key for the braking challenge's optimal law (app.engine.challenge)
+SLIDERS = "sliders"  # a request's key for several sliders at once: ("sliders", ((key, value), ...)), a design's optimum
 
 
 @dataclass(frozen=True)
 class Difference:
     """What the second run changes: ``key`` a slider's key and ``value`` its other value, or ``key`` None and
-    ``value`` another fidelity."""
+    ``value`` another fidelity, or ``key`` SLIDERS and ``value`` several (slider key, value) pairs."""
 
     key: str | None
-    value: float | str
+    value: float | str | tuple[tuple[str, float], ...]
 
     def label(self) -> str:
         """The second run's name, as the plots' legend and the readouts say it ("m = 0 kg")."""
@@ -41,7 +43,7 @@ class Difference:
             return f"fidelity {self.value}"
         if self.key == CHALLENGE:
             return "the optimal law -b K/|K|"
-        return _named(self.key, float(self.value))
+        return ", ".join(_named(k, float(v)) for k, v in self.pairs())
 
     def own_label(self, scenario: physics.Scenario) -> str:
         """The first run's name for the same difference ("m = 0.2 kg")."""
@@ -49,7 +51,12 @@ class Difference:
             return f"fidelity {scenario.run.fidelity}"
         if self.key == CHALLENGE:
             return "your thrusters"
-        return _named(self.key, controls.values_of(scenario)[self.key])
+        values = controls.values_of(scenario)
+        return ", ".join(_named(k, values[k]) for k, _ in self.pairs())
+
+    def pairs(self) -> tuple[tuple[str, float], ...]:
+        """The (slider key, value) pairs it sets: one, or several."""
+        return self.value if self.key == SLIDERS else ((self.key, float(self.value)),)
 
 
 def _named(key: str, value: float) -> str:
@@ -71,12 +78,26 @@ def parse(spec) -> Difference | None:
         if value not in controls.FIDELITIES:
             raise ValueError(f"compare: fidelity {value!r} is not one of {', '.join(controls.FIDELITIES)}")
         return Difference(None, value)
+    if key == SLIDERS:
+        try:
+            pairs = tuple(_pair(k, v) for k, v in value)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(str(exc) if str(exc).startswith("compare:") else f"compare: {str(value)[:80]!r} is "
+                             "not a list of (parameter key, value) pairs") from None
+        if not 1 <= len(pairs) <= len(controls.BY_KEY) or len({k for k, _ in pairs}) != len(pairs):
+            raise ValueError(f"compare: {str(value)[:80]!r} must name one or more different sliders")
+        return Difference(SLIDERS, pairs)
+    key, value = _pair(key, value)
+    return Difference(key, value)
+
+
+def _pair(key, value) -> tuple[str, float]:
     if key not in controls.BY_KEY:
         raise ValueError(f"compare: {key!r} is not a slider's parameter (one of {', '.join(controls.BY_KEY)})")
     value = float(value)
     if not np.isfinite(value):
         raise ValueError(f"compare: {controls.BY_KEY[key].label} = {value!r} is not a finite number")
-    return Difference(key, value)
+    return key, value
 
 
 def second_scenario(engine, diff: Difference) -> physics.Scenario:
@@ -89,11 +110,11 @@ def second_scenario(engine, diff: Difference) -> physics.Scenario:
         if getattr(engine, "challenge", None) is None:
             raise physics.ScenarioError("compare", diff.value, "races a braking challenge, and none is running")
         return engine.challenge.optimal
-    p = controls.BY_KEY[diff.key]
-    if sc.system not in p.systems:
-        raise physics.ScenarioError(diff.key, diff.value, f"is not a parameter of a {sc.system} scene "
-                                    f"(compare another of its sliders, or the fidelity)")
-    changes = controls.merge_changes(engine.changes, {diff.key: diff.value})
+    for key, value in diff.pairs():
+        if sc.system not in controls.BY_KEY[key].systems:
+            raise physics.ScenarioError(key, value, f"is not a parameter of a {sc.system} scene "
+                                        f"(compare another of its sliders, or the fidelity)")
+    changes = controls.merge_changes(engine.changes, dict(diff.pairs()))
     return controls.apply_changes(engine.base, changes).replace(run=sc.run)
 
 
@@ -120,7 +141,7 @@ class Comparison:
         (the caller turns compare mode off and says why)."""
         second = second_scenario(engine, self.diff)
         run = physics.LiveRun(second)  # validates it; and the start it has of its own
-        if self.diff.key in (None, CHALLENGE) or not controls.BY_KEY[self.diff.key].restarts:
+        if self.diff.key in (None, CHALLENGE) or not any(controls.BY_KEY[k].restarts for k, _ in self.diff.pairs()):
             start = physics.LiveRun(engine.scenario)  # the first run's start: its K and attitude at t = 0
             if start.retune(second, keep_state=True):
                 run = start
