@@ -60,7 +60,7 @@ def test_pendulum_design_beats_a_20_by_20_grid_in_at_most_120_runs():
     assert "refinements ran it directly" in result.method
     # beside the papers' rules: both tunings ran on the full model, and the design does better than either
     refs = result.references
-    assert set(refs) == {"resonance, seed 002 (14)", "linear optimum, seed 002 (docs/models.md B.5)"}
+    assert set(refs) == {"resonance (Grobov 1968, eq. 14)", "linear optimum (fastest linear decay)"}
     for values, value in refs.values():
         assert math.isfinite(value) and result.value < value and "pendulum.k" in values
     assert all(20 <= e.values[0] <= 80 and 1 <= e.values[1] <= 40 for e in result.path)

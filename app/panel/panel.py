@@ -158,6 +158,9 @@ class Panel:
                          lambda sc: eng.request("scenario", (sc, f"{eng.preset} (recommended method)")))
         self._lazy_panel("Sweep", "sweep_panel", "SweepPanel",
                          lambda sc: eng.request("scenario", (sc, "sweep point")), scene=self.client.scene)
+        self._lazy_panel("Design", "design_panel", "DesignPanel",
+                         lambda sc: eng.request("scenario", (sc, "design")),
+                         compare=lambda spec: eng.request("compare", spec))
 
         def on(handle, action, convert=lambda v: v):
             @handle.on_update

@@ -128,12 +128,13 @@ END_SWING = 0.1  # rad: the scale of a bob's swing away from its rest, for the e
 
 
 def spherical_tunings(sc) -> dict[str, dict[str, float]]:
-    """Seed 002's tuning rules for this carrier: resonance (14), which sets k alone, and the exact linear optimum
-    of docs/models.md B.5, which sets k and c_d (ScenarioError for a prolate carrier, which neither can tune)."""
+    """The tuning rules for this carrier, named for a reader of the explorer: seed 002's resonance (14), which sets
+    k alone, and the exact linear optimum of docs/models.md B.5 (the fastest decay of the linearised motion), which
+    sets k and c_d. ScenarioError for a prolate carrier, which neither can tune."""
     system = pendulum_system(sc)
     k_opt, c_opt = optimal_tuning(system)
-    return {"resonance, seed 002 (14)": {"pendulum.k": resonant_stiffness(system, system.bobs[0])},
-            "linear optimum, seed 002 (docs/models.md B.5)": {"pendulum.k": float(k_opt), "pendulum.c_d": float(c_opt)}}
+    return {"resonance (Grobov 1968, eq. 14)": {"pendulum.k": resonant_stiffness(system, system.bobs[0])},
+            "linear optimum (fastest linear decay)": {"pendulum.k": float(k_opt), "pendulum.c_d": float(c_opt)}}
 
 
 def spherical_end(sc) -> EndLocked | str:

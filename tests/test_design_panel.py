@@ -1,0 +1,103 @@
+"""The explorer's Design panel, headless: a fake gui records the widgets, the design runs for real (issue 26)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import physics
+
+pytest.importorskip("plotly")
+from fake_gui import FakeGui  # noqa: E402
+
+from app.engine.compare import SLIDERS, parse  # noqa: E402
+from app.studies.design_panel import BESIDE_SCENE, MAX_RUNS, NONE, DesignPanel  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _scene() -> physics.Scenario:
+    sc = physics.Scenario.load(ROOT / "assets" / "scenarios" / "pendulum_resonant.toml")
+    return sc.with_values(**{"run.t_end": 20.0, "run.samples": 201})
+
+
+def _panel():
+    loaded, compared = [], []
+    sc = _scene()
+    panel = DesignPanel(FakeGui(), lambda: sc, loaded.append, compare=compared.append, executor="serial")
+    return panel, loaded, compared
+
+
+def test_a_design_from_the_panel_is_shown_taken_and_compared_beside_the_papers_tuning():
+    panel, loaded, compared = _panel()
+    (key1, lo1, hi1), (key2, lo2, hi2), (key3, _, _) = panel.slots
+    key1.value = "pendulum.k"
+    key1.fire()
+    k = physics.derived(_scene())["k"]
+    assert (lo1.value, hi1.value) == (float(f"{k / 2:.4g}"), float(f"{2 * k:.4g}"))  # the sweep's default range
+    key2.value = "pendulum.c_d"
+    key2.fire()
+    assert key3.value == NONE
+    panel.runs.value = 60
+    panel.runs.fire()
+    panel.run_btn.fire()
+    panel.thread.join(timeout=120)
+    assert not panel.thread.is_alive() and not panel.run_btn.disabled and panel.stop_btn.disabled
+    result = panel.result
+    assert result is not None and result.keys == ("pendulum.k", "pendulum.c_d") and result.evaluations <= 60
+    assert panel.bar.value == 100.0
+    text = panel.result_md.content
+    assert "**Optimum**" in text and "from the full model" in text and "resonance" in text
+    assert "k = " in text and "N m/rad" in text
+    scatter = [t for t in panel.plot.figure.data if t.mode == "markers"]
+    assert sum(len(t.x) for t in scatter) == result.evaluations
+    # one click: the optimum
+    panel.take_btn.fire()
+    assert loaded[-1].pendulum.k == result.best["pendulum.k"] and loaded[-1].pendulum.c_d == result.best["pendulum.c_d"]
+    # beside this scene: compare mode with both sliders as one difference
+    assert panel.beside.options[0] == BESIDE_SCENE and len(panel.beside.options) == 3
+    panel.compare_btn.fire()
+    spec = compared[-1]
+    assert spec[0] == SLIDERS and dict(spec[1]) == result.best
+    assert parse(spec).pairs() == tuple(result.best.items())  # the engine takes it as it is
+    # beside the papers' resonance: that scene is loaded first, as the first run
+    panel.beside.value = panel.beside.options[1]
+    panel.compare_btn.fire()
+    tuned = result.references[panel.beside.value][0]
+    assert loaded[-1].pendulum.k == pytest.approx(tuned["pendulum.k"]) and compared[-1] == spec
+
+
+def test_bad_input_is_said_in_the_panel():
+    panel, _, _ = _panel()
+    (key1, _, _), (key2, _, _), _ = panel.slots
+    key1.value = key2.value = "pendulum.k"
+    panel.run_btn.fire()
+    assert panel.thread is None and "chosen twice" in panel.status.content
+    key2.value = NONE
+    lo, hi = panel.slots[0][1], panel.slots[0][2]
+    lo.value, hi.value = hi.value, lo.value
+    panel.run_btn.fire()
+    assert panel.thread is None and "must be finite with from < to" in panel.status.content
+    panel.runs.value = 1e9  # a raw client: refused, the last good count kept
+    panel.runs.fire()
+    assert panel.runs.value == 120 and f"from 20 to {MAX_RUNS}" in panel.status.content
+    panel.take_btn.fire()
+    assert "Run a design first" in panel.status.content
+
+
+def test_the_result_goes_stale_when_the_scene_changes():
+    sc = _scene()
+    scenes = [sc]
+    panel = DesignPanel(FakeGui(), lambda: scenes[-1], lambda s: None, executor="serial")
+    panel.slots[0][0].value = "pendulum.c_d"
+    panel.slots[0][0].fire()
+    panel.run_btn.fire()
+    panel.thread.join(timeout=120)
+    assert not panel.stale
+    scenes.append(sc.with_values(**{"pendulum.c_d": 3.0}))  # only the designed key: still current
+    panel.scene_changed()
+    assert not panel.stale
+    scenes.append(sc.with_values(**{"pendulum.m": 4.0}))
+    panel.scene_changed()
+    assert panel.stale and "Stale" in panel.result_md.content
