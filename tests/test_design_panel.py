@@ -22,6 +22,22 @@ def _scene() -> physics.Scenario:
     return sc.with_values(**{"run.t_end": 20.0, "run.samples": 201})
 
 
+class _Recording:
+    """A plot handle that keeps every figure it was given."""
+
+    def __init__(self, handle, charts):
+        object.__setattr__(self, "_handle", handle)
+        object.__setattr__(self, "_charts", charts)
+
+    def __getattr__(self, name):
+        return getattr(self._handle, name)
+
+    def __setattr__(self, name, value):
+        if name == "figure":
+            self._charts.append(value)
+        setattr(self._handle, name, value)
+
+
 def _panel():
     loaded, compared = [], []
     sc = _scene()
@@ -41,9 +57,14 @@ def test_a_design_from_the_panel_is_shown_taken_and_compared_beside_the_papers_t
     assert key3.value == NONE
     panel.runs.value = 60
     panel.runs.fire()
+    charts = []
+    panel.plot = _Recording(panel.plot, charts)
     panel.run_btn.fire()
     panel.thread.join(timeout=120)
     assert not panel.thread.is_alive() and not panel.run_btn.disabled and panel.stop_btn.disabled
+    # the runs were charted as they came, then once more when done
+    counts = [sum(len(t.x) for t in fig.data if t.mode == "markers") for fig in charts]
+    assert counts[0] == 1 and counts[1:4] == [5, 10, 15] and counts[-1] == panel.result.evaluations
     result = panel.result
     assert result is not None and result.keys == ("pendulum.k", "pendulum.c_d") and result.evaluations <= 60
     assert panel.bar.value == 100.0

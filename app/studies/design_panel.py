@@ -26,6 +26,7 @@ from .sweep_ranges import box_precision, box_step, default_range, scenario_key
 
 SLOTS = 3  # sliders a design varies from the explorer (physics.design takes four)
 DEFAULT_RUNS = 120
+LIVE_EVERY = 5  # runs between redraws of the live chart and status line
 MIN_RUNS, MAX_RUNS = 20, 400
 BESIDE_SCENE = "this scene"
 NO_RESULT = "(run a design first)"
@@ -64,6 +65,9 @@ class DesignPanel:
         self.stale = False
         self.thread: threading.Thread | None = None
         self.stop = threading.Event()
+        self._live: list = []  # the running design's runs so far, in the order they finished (the live chart)
+        self._live_lock = threading.Lock()
+        self._running = "decay_time"  # the running design's objective
         sc = get_scenario()
         self.system = sc.system
         keys = sweepable(sc) or [NONE]
@@ -196,6 +200,7 @@ class DesignPanel:
             self._say(f"**Cannot start:** {exc}")
             return None
         self.stop.clear()
+        self._live, self._running = [], objective
         self.bar.value = 0.0
         self.run_btn.disabled, self.stop_btn.disabled = True, False
         sliders = slider_map(sc.system)
@@ -209,10 +214,18 @@ class DesignPanel:
         return self.thread
 
     def _progress(self, done: int, budget: int, e) -> None:
+        """Called once per run from the design's threads: the bar, and every LIVE_EVERY runs the status line and
+        the chart of the runs so far (each chart is sent whole to the browser, so not on every run)."""
+        with self._live_lock:
+            self._live.append(e)
+            path = list(self._live)
         self.bar.value = min(100.0 * done / budget, 100.0) if budget else 100.0
-        if done == 1 or done % 5 == 0:
+        if done == 1 or done % LIVE_EVERY == 0:
             value = f"{e.objective:.4g}" if math.isfinite(e.objective) else "failed"
             self._say(f"Run {done} of at most {budget} ({e.phase}): {value}")
+            objective = self._running
+            self.plot.figure = design_view.path_figure(path, physics.OBJECTIVES[objective], objective,
+                                                       physics.METRICS[objective].unit)
 
     def _work(self, sc: physics.Scenario, vary: dict, objective: str, runs: int) -> None:
         try:

@@ -25,39 +25,47 @@ def named(slider: str, value: float) -> str:
     return f"{p.label} = {_num(value)}" + (f" {p.unit}" if p.unit else "")
 
 
-def best_so_far(result: physics.DesignResult) -> np.ndarray:
-    """The best objective up to each run, as the design ranks them (NaN before the first that counts)."""
+def best_so_far(path, goal: str) -> np.ndarray:
+    """The best objective up to each run of ``path`` (Evaluations), as the design ranks them (NaN before the first
+    that counts)."""
     out, best = [], math.nan
-    for e in result.path:
+    for e in path:
         v = e.objective
-        counts = math.isfinite(v) and (result.goal != "min_positive" or v > 0)
-        if counts and (math.isnan(best) or (v > best if result.goal == "max" else v < best)):
+        counts = math.isfinite(v) and (goal != "min_positive" or v > 0)
+        if counts and (math.isnan(best) or (v > best if goal == "max" else v < best)):
             best = v
         out.append(best)
     return np.array(out)
 
 
 def figure(result: physics.DesignResult | None, stale: bool = False):
+    """The finished design's runs (an empty chart for None)."""
+    if result is None:
+        return path_figure([], "min", "", "")
+    return path_figure(result.path, result.goal, result.objective, result.unit, stale)
+
+
+def path_figure(path, goal: str, objective: str, unit: str, stale: bool = False):
+    """Each run's objective, coloured by phase, and the best so far: drawn as the runs come and when done."""
     import plotly.graph_objects as go
 
     fig = go.Figure()
     fig.update_layout(margin={"l": 10, "r": 10, "t": 30, "b": 10}, legend={"orientation": "h", "y": -0.25},
                       font={"size": 11})
-    if result is None:
+    if not path:
         return fig
-    runs = np.arange(1, len(result.path) + 1)
-    objective = np.array([e.objective for e in result.path])
-    for phase in dict.fromkeys(e.phase for e in result.path):
-        mask = np.array([e.phase == phase for e in result.path])
-        fig.add_trace(go.Scatter(x=runs[mask], y=objective[mask], mode="markers", name=phase,
+    runs = np.arange(1, len(path) + 1)
+    values = np.array([e.objective for e in path])
+    for phase in dict.fromkeys(e.phase for e in path):
+        mask = np.array([e.phase == phase for e in path])
+        fig.add_trace(go.Scatter(x=runs[mask], y=values[mask], mode="markers", name=phase,
                                  marker={"size": 6, "color": PHASE_COLOURS.get(phase)}))
-    fig.add_trace(go.Scatter(x=runs, y=best_so_far(result), mode="lines", name="best so far",
+    fig.add_trace(go.Scatter(x=runs, y=best_so_far(path, goal), mode="lines", name="best so far",
                              line={"color": "black", "width": 2}))
-    unit = f" ({result.unit})" if result.unit else ""
-    positive = objective[np.isfinite(objective) & (objective > 0)]
+    positive = values[np.isfinite(values) & (values > 0)]
     log = len(positive) > 1 and positive.max() / positive.min() > 30
-    fig.update_yaxes(title_text=result.objective + unit, type="log" if log else "linear")
-    title = f"{result.objective} by run (x: the run's number)" + (" (stale: the scene has changed)" if stale else "")
+    fig.update_yaxes(title_text=objective + (f" ({unit})" if unit else ""), type="log" if log else "linear")
+    title = f"{objective} by run (x: the run's number)" + (" (stale: the scene has changed)" if stale else "")
     fig.update_layout(title={"text": title, "x": 0.02, "font": {"size": 12}})
     return fig
 
