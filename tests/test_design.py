@@ -4,6 +4,7 @@ executor gives the same design; bad input is one message; a stopped design keeps
 from __future__ import annotations
 
 import csv
+import json
 import math
 import os
 import re
@@ -239,3 +240,18 @@ def test_worker_processes_run_one_blas_thread():
     result = physics.design(sc, {"pendulum.c_d": (1.0, 40.0)}, _blas_threads, workers=2, budget=20, references=False)
     in_workers = [e.objective for e in result.path[1:] if e.phase != "check"]  # the first and the check run here
     assert in_workers and set(in_workers) == {1.0}
+
+
+def test_cli_on_an_existing_scheduler_address(tmp_path, capsys):
+    distributed = pytest.importorskip("distributed")
+    from physics.cli import main
+
+    sc = _pendulum().with_values(**{"run.t_end": 12.0, "run.samples": 121})
+    scenario = tmp_path / "pend.toml"
+    scenario.write_text(sc.to_toml())
+    with distributed.LocalCluster(n_workers=1, processes=False, dashboard_address=None) as cluster:
+        assert main(["design", str(scenario), "--vary", "c_d=1:40", "--budget", "30", "--json",
+                     "--dask", cluster.scheduler_address]) == 0
+    out = json.loads(capsys.readouterr().out)
+    local = physics.design(sc, {"c_d": (1.0, 40.0)}, "decay_time", budget=30, executor="serial")
+    assert out["best"] == local.best and out["value"] == local.value and out["evaluations"] == local.evaluations
