@@ -408,13 +408,21 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
                                 "for a decay time, the nutation grew): " + _first_error(ordered))
         check = None
         if not stop.is_set():  # the full model states the optimum's value
-            check = record("check", best.values, evaluate(scenario, tuple(keys), best.values, objective, "full", None))
+            try:
+                check = record("check", best.values, evaluate(scenario, tuple(keys), best.values, objective, "full",
+                                                              None))
+            except KeyboardInterrupt:  # stopped during the check: the optimum found is kept, unchecked
+                stop.set()
     finally:
         runner.close()
     ordered.extend(paths.get("check", []))
     best_values = dict(zip(keys, best.values, strict=True))
     value = check.objective if check is not None else math.nan
-    refs = _references(scenario, keys, objective) if references and not stop.is_set() else {}
+    try:
+        refs = _references(scenario, keys, objective) if references and not stop.is_set() else {}
+    except KeyboardInterrupt:  # the papers' tunings are a comparison: stopping skips them, the design is kept
+        stop.set()
+        refs = {}
     method = (f"coarse start of {n_levels}^{len(keys)} = {len(grid)} points, then scipy.optimize.minimize "
               f"(Nelder-Mead, bounded) from the best {len(threads)}, on "
               + ", ".join(f"{k} ({'log' if lg else 'linear'})" for k, lg in zip(keys, scale.log, strict=True))
