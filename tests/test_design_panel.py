@@ -103,6 +103,10 @@ def test_bad_input_is_said_in_the_panel():
     panel.runs.value = 1e9  # a raw client: refused, the last good count kept
     panel.runs.fire()
     assert panel.runs.value == 120 and f"from 20 to {MAX_RUNS}" in panel.status.content
+    lo.value, hi.value = hi.value, lo.value
+    panel.objective.value = "speed"  # a raw client's text: refused by name before a thread starts
+    panel.run_btn.fire()
+    assert panel.thread is None and "objective = 'speed': must be one of decay_time" in panel.status.content
     panel.take_btn.fire()
     assert "Run a design first" in panel.status.content
 

@@ -187,6 +187,9 @@ class DesignPanel:
         runs = runs_of(self.runs.value)
         if runs is None:
             raise physics.ScenarioError("runs at most", self.runs.value, f"must be from {MIN_RUNS} to {MAX_RUNS}")
+        if self.objective.value not in physics.OBJECTIVES:  # a raw client can send any text
+            raise physics.ScenarioError("objective", str(self.objective.value)[:40], "must be one of "
+                                        + ", ".join(physics.OBJECTIVES))
         return sc, vary, self.objective.value, runs
 
     def start(self) -> threading.Thread | None:
