@@ -255,3 +255,15 @@ def test_cli_on_an_existing_scheduler_address(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     local = physics.design(sc, {"c_d": (1.0, 40.0)}, "decay_time", budget=30, executor="serial")
     assert out["best"] == local.best and out["value"] == local.value and out["evaluations"] == local.evaluations
+
+
+def test_a_fault_in_a_refinement_reaches_the_caller_not_a_thread_traceback():
+    """A progress callback that raises inside a refinement's thread: the design raises it where it was called (the
+    explorer shows it), rather than a thread printing a traceback and the design going on without it."""
+    def progress(done, budget, e):
+        if e.phase.startswith("refine"):
+            raise ZeroDivisionError("float division by zero")
+
+    sc = _pendulum().with_values(**{"run.t_end": 6.0, "run.samples": 61})
+    with pytest.raises(ZeroDivisionError):
+        physics.design(sc, {"pendulum.c_d": (1.0, 40.0)}, "decay_time", executor="serial", progress=progress)

@@ -385,11 +385,19 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
         ranked = sorted((p for p in start_points if math.isfinite(p[0])), key=lambda p: p[0])
         scale_f = abs(ranked[0][0]) if ranked and ranked[0][0] != 0 else 1.0
         per_start = (budget - len(start_points) - 1) // max(min(STARTS, len(ranked)), 1)
-        threads = []
+        threads, failures = [], []
+
+        def refine(*args):
+            try:
+                _refine(*args)
+            except BaseException as exc:  # noqa: BLE001 - raised again below, in the caller's thread
+                failures.append(exc)
+                stop.set()
+
         for j, (_, x0) in enumerate(ranked[:STARTS]):
             phase = f"refine {j + 1}"
-            t = threading.Thread(target=_refine, args=(runner, scale, x0, 1.0 / n_levels, per_start, goal, scale_f,
-                                                       phase, record, stop), daemon=True)
+            t = threading.Thread(target=refine, args=(runner, scale, x0, 1.0 / n_levels, per_start, goal, scale_f,
+                                                      phase, record, stop), daemon=True)
             threads.append(t)
             t.start()
         try:
@@ -400,6 +408,8 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
             stop.set()
             for t in threads:
                 t.join()
+        if failures:  # a fault in a refinement (a progress callback's, say) is the caller's, not a thread's traceback
+            raise failures[0]
         ordered = [e for phase in ["start", *(f"refine {j + 1}" for j in range(len(threads)))]
                    for e in paths.get(phase, [])]
         best = min(ordered, key=lambda e: _score(goal, e.objective), default=None)
