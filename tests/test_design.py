@@ -267,3 +267,13 @@ def test_a_fault_in_a_refinement_reaches_the_caller_not_a_thread_traceback():
     sc = _pendulum().with_values(**{"run.t_end": 6.0, "run.samples": 61})
     with pytest.raises(ZeroDivisionError):
         physics.design(sc, {"pendulum.c_d": (1.0, 40.0)}, "decay_time", executor="serial", progress=progress)
+
+
+def test_an_unreachable_scheduler_is_one_line_naming_it():
+    pytest.importorskip("distributed")
+    proc = subprocess.run([sys.executable, "-m", "physics", "design", "assets/scenarios/pendulum_resonant.toml",
+                           "--vary", "k=20:80", "--budget", "20", "--dask", "tcp://127.0.0.1:1"],
+                          capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "dask = 'tcp://127.0.0.1:1': cannot be reached" in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1

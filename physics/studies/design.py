@@ -60,6 +60,7 @@ XATOL = 1e-3  # Nelder-Mead's step tolerance, in the unit cube: 0.1 % of each ke
 FATOL = 1e-4  # and its value tolerance, relative to the best coarse value
 # the share of what the objective reads that a point's stated theta error may take (accuracy_for)
 SENSITIVITY_SHARE = 0.05
+DASK_TIMEOUT_S = 10  # s to reach a scheduler's address before the design is refused
 
 
 @dataclass(frozen=True)
@@ -189,7 +190,10 @@ class _Runner:
         self.pool = self.client = self.cluster = None
         self.lock = threading.Lock()
         if dask is not None:
-            from distributed import Client, LocalCluster
+            try:
+                from distributed import Client, LocalCluster
+            except ImportError:
+                raise ScenarioError("dask", dask, "needs dask.distributed: pip install 'dask[distributed]'") from None
 
             if isinstance(dask, str) and dask == "local":
                 import logging
@@ -199,7 +203,10 @@ class _Runner:
                 self.client = Client(self.cluster)
                 self.own = True
             elif isinstance(dask, str):
-                self.client, self.own = Client(dask), True
+                try:
+                    self.client, self.own = Client(dask, timeout=DASK_TIMEOUT_S), True
+                except (OSError, TimeoutError, ValueError) as exc:  # no scheduler there, or no address at all
+                    raise ScenarioError("dask", dask, f"cannot be reached: {exc}") from None
             else:
                 self.client, self.own = dask, False
         elif executor == "processes" and workers > 1:
@@ -302,9 +309,9 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
     ``budget``: the most runs, the full model's check of the optimum included. ``accuracy``: the theta accuracy
     (rad) auto's points run at (default ``accuracy_for``); ``fidelity``: "auto", or a fidelity every point runs.
     ``executor``/``workers``/``dask`` as physics.sweep takes them. ``progress(done, budget, evaluation)`` is
-    called once per run, from the refinements' threads. ``references``: also run
-    the papers' tunings of this system (System.tunings) on the full model, for comparison (not counted in
-    ``evaluations``).
+    called once per run: from the calling thread for the start, from the refinements' threads after it.
+    ``references``: also run the papers' tunings of this system (System.tunings) on the full model, for comparison
+    (not counted in ``evaluations``).
     """
     start_time = time.perf_counter()
     arguments.scenario(scenario)
