@@ -163,7 +163,7 @@ def accuracy_for(sc: Scenario, objective) -> float | None:
     return None
 
 
-def _score(goal: str, value: float) -> float:
+def score(goal: str, value: float) -> float:
     """What the search minimises: inf where the point failed or (decay time) the nutation does not decay."""
     if not math.isfinite(value) and not (goal == "max" and value == math.inf):
         return math.inf if goal != "min" or math.isnan(value) else value
@@ -375,12 +375,12 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
 
     try:
         # the coarse start: all at once
-        start_points = [(_score(goal, record("start", scale.values(grid[0]), first).objective), grid[0])]
+        start_points = [(score(goal, record("start", scale.values(grid[0]), first).objective), grid[0])]
         try:
             futures = [(x, runner.submit(scale.values(x))) for x in grid[1:]]
             for x, f in futures:
                 e = record("start", scale.values(x), f.result())
-                start_points.append((_score(goal, e.objective), x))
+                start_points.append((score(goal, e.objective), x))
         except KeyboardInterrupt:  # keep what ran; no refinement starts
             stop.set()
         # auto's choice costs a cost probe and an error estimate per run: where it chose the full model at every
@@ -419,8 +419,8 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
             raise failures[0]
         ordered = [e for phase in ["start", *(f"refine {j + 1}" for j in range(len(threads)))]
                    for e in paths.get(phase, [])]
-        best = min(ordered, key=lambda e: _score(goal, e.objective), default=None)
-        if best is None or not math.isfinite(_score(goal, best.objective)):
+        best = min(ordered, key=lambda e: score(goal, e.objective), default=None)
+        if best is None or not math.isfinite(score(goal, best.objective)):
             raise ScenarioError("objective", name, "is not finite at any point the design ran (every run failed or, "
                                 "for a decay time, the nutation grew): " + _first_error(ordered))
         check = None
@@ -473,7 +473,7 @@ def _refine(runner: _Runner, scale: _Scale, x0: np.ndarray, step: float, maxfev:
         if stop.is_set() or len(seen) >= maxfev:
             raise _Stopped
         e = record(phase, values, runner.submit(values).result())
-        seen[values] = _score(goal, e.objective) / scale_f
+        seen[values] = score(goal, e.objective) / scale_f
         return seen[values]
 
     simplex = [x0]
@@ -522,4 +522,5 @@ def write_csv(result: DesignResult, path: str | Path) -> None:
                         e.error, f"{e.compute_s:.6f}"])
 
 
-__all__ = ["OBJECTIVES", "DesignResult", "Evaluation", "accuracy_for", "design", "evaluate", "unit", "write_csv"]
+__all__ = ["OBJECTIVES", "DesignResult", "Evaluation", "accuracy_for", "design", "evaluate", "score", "unit",
+           "write_csv"]

@@ -13,7 +13,7 @@ import time
 
 from physics.core.errors import ScenarioError
 from physics.scenario.scenario import Scenario
-from physics.studies.design import DesignResult, Evaluation, design, unit, write_csv
+from physics.studies.design import OBJECTIVES, DesignResult, Evaluation, design, score, unit, write_csv
 
 
 def parse_vary(items: list[str]) -> dict[str, str]:
@@ -41,11 +41,9 @@ class _Progress:
         self.start = time.perf_counter()
 
     def __call__(self, done: int, budget: int, e: Evaluation) -> None:
-        v = e.objective
-        if math.isfinite(v) and (self.goal != "min_positive" or v > 0):
-            better = v > self.best if self.goal == "max" else v < self.best
-            if math.isnan(self.best) or better:
-                self.best = v
+        if math.isfinite(score(self.goal, e.objective)) and (
+                math.isnan(self.best) or score(self.goal, e.objective) < score(self.goal, self.best)):
+            self.best = e.objective
         line = f"design: {done}/{budget} runs, best {self.objective} {self.best:.6g}"
         if self.tty:
             print("\r" + line, end="", file=sys.stderr, flush=True)
@@ -83,8 +81,7 @@ def as_json(result: DesignResult) -> str:
 
 def run_design(sc: Scenario, args) -> int:
     vary = parse_vary(args.vary)
-    goal = {"energy_dissipated": "max", "decay_time": "min_positive"}.get(args.objective, "min")
-    progress = _Progress(args.objective, goal, args.budget)
+    progress = _Progress(args.objective, OBJECTIVES[args.objective], args.budget)
     try:
         result = design(sc, vary, args.objective, budget=args.budget, accuracy=args.accuracy, workers=args.workers,
                         dask=args.dask, progress=progress)
