@@ -103,4 +103,4 @@ def test_a_resting_mass_whose_wobble_dies_slowly_gets_an_estimate_that_holds():
     full, closed = _runs(sc)
     actual = float(np.max(np.abs(np.interp(full.t, closed.t, closed.theta) - full.theta)))
     stated = accuracy.averaged_error_bound(sc)
-    assert actual <= stated <= 1.1 * accuracy.SAFETY_FORCED * actual, (actual, stated)
+    assert actual <= stated <= 1.1 * accuracy.forced_safety(sc) * actual, (actual, stated)

@@ -19,7 +19,7 @@ import numpy as np
 from physics.registry import Condition
 from physics.scenario.scenario import Scenario
 from physics.systems.choice import cheapest_within
-from physics.systems.pendulum.accuracy import SAFETY, SWING_MAX, averaged_error_bound, scenario_parts
+from physics.systems.pendulum.accuracy import SAFETY, SAFETY_LINEAR, SWING_MAX, averaged_error_bound, scenario_parts
 from physics.systems.pendulum.geometry import pendulum_system
 from physics.systems.pendulum.linear import spherical_linear
 
@@ -36,7 +36,8 @@ COUPLING_MAX = 0.02  # mu D^2 / A: the calibration study's range (its largest we
 METHOD = ("the averaged model's distance from the exact linear theory plus its change under the amplitude-"
           "dependent detuning (spin-up W theta0^2/2, the bob's swing from linear theory or at resonance, where "
           "it can jump there), over [0, t_end], "
-          f"times a safety factor {SAFETY:g} calibrated against the full model (python -m bench fidelity, "
+          f"each times a safety factor ({SAFETY_LINEAR:g} on the linear part, {SAFETY:g} on the nonlinear) "
+          "calibrated against the full model (python -m bench fidelity, "
           "docs/models.md)")
 
 
