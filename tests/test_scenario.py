@@ -130,3 +130,19 @@ def test_mass_state_belongs_to_the_moving_mass():
     assert physics.Scenario.from_dict(bare).initial.mass_state is None
     assert [c.name for c in physics.averaged_conditions(physics.Scenario.from_dict(bare))] == [
         c.name for c in physics.averaged_conditions(physics.Scenario.from_dict(_with("initial.mass_state", "rest")))]
+
+
+def test_a_file_path_is_named_whole_and_a_path_past_any_use_keeps_its_file_name(tmp_path):
+    """A value is cut at 80 characters, but a file's path is what the user must find: it is shown whole, and one
+    longer than MAX_PATH loses its middle, not its file name."""
+    from physics.core.errors import MAX_PATH
+
+    deep = tmp_path / ("x" * 120) / "missing scenario.toml"
+    with pytest.raises(physics.ScenarioError) as info:
+        physics.Scenario.load(deep)
+    assert f"scenario = '{deep}': cannot be read" in str(info.value)
+    huge = "/" + "y" * 3000 + "/the file.toml"
+    with pytest.raises(physics.ScenarioError) as info:
+        physics.Scenario.load(huge)
+    shown = str(info.value).split(": cannot be read")[0]
+    assert shown.endswith("/the file.toml'") and "..." in shown and len(shown) <= len("scenario = ") + MAX_PATH

@@ -209,7 +209,9 @@ def test_a_mesh_path_comes_only_from_the_command_line():
 def test_a_malformed_mesh_file_gives_a_clear_error(tmp_path, content):
     from app.engine.mesh import load_mesh
 
-    path = tmp_path / "broken.stl"
+    folder = tmp_path / ("a folder whose name is long " * 4).strip()  # a path past the 80 characters a value gets
+    folder.mkdir()
+    path = folder / "broken.stl"
     path.write_bytes(content)
     with pytest.raises(physics.ScenarioError) as info:
         load_mesh(path, 1.0)

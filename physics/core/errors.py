@@ -6,6 +6,8 @@ input without reading code (the CLI prints ``str(error)`` and exits with status 
 
 from __future__ import annotations
 
+import os
+
 
 class ScenarioError(ValueError):
     """Bad input: a key, its value and the allowed range or set."""
@@ -42,6 +44,8 @@ class NumericalFault(IntegrationFault):
 
 
 def _show(value: object) -> str:
+    if isinstance(value, os.PathLike):  # a file's path is shown whole: its name, at the end, is what a user looks for
+        return _cut_middle(repr(os.fspath(value)), MAX_PATH)
     if isinstance(value, str) and value.startswith("("):
         return value  # a placeholder such as "(missing)", not a value the user typed
     if isinstance(value, int) and value.bit_length() > 256:  # repr() refuses ints of more than 4300 digits
@@ -69,7 +73,13 @@ def _text(thing: object) -> str:
 
 MAX_SHOWN = 80  # characters of a key or value echoed back: a message stays one readable line
 MAX_ALLOWED = 400  # characters of the "allowed" part (it may list keys, or quote a parser's message)
+MAX_PATH = 1000  # characters of a file's path: longer ones (the system allows 4096) lose their middle, not their name
 
 
 def _cut(text: str, limit: int = MAX_SHOWN) -> str:
     return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _cut_middle(text: str, limit: int) -> str:
+    keep = limit - 3
+    return text if len(text) <= limit else text[:keep // 2] + "..." + text[len(text) - (keep - keep // 2):]

@@ -197,13 +197,13 @@ class Scenario:
         try:
             data = _read_capped(p)
             if len(data) > MAX_BYTES:
-                raise ScenarioError("scenario", str(p), f"file must be at most {MAX_BYTES} bytes")
+                raise ScenarioError("scenario", p, f"file must be at most {MAX_BYTES} bytes")
             text = data.decode("utf-8-sig")  # a leading byte-order mark is dropped, as the upload does
         except (OSError, UnicodeDecodeError, ValueError) as exc:  # ValueError: a path with a NUL byte
             if isinstance(exc, ScenarioError):
                 raise
             why = getattr(exc, "strerror", None) or str(exc)
-            raise ScenarioError("scenario", str(p), f"cannot be read ({why}); give the path of a TOML file") from None
+            raise ScenarioError("scenario", p, f"cannot be read ({why}); give the path of a TOML file") from None
         return cls.from_toml(text)
 
     # ---- output -------------------------------------------------------------------------
@@ -263,7 +263,7 @@ def _read_capped(p: Path) -> bytes:
     try:
         mode = os.fstat(fd).st_mode
         if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
-            raise ScenarioError("scenario", str(p), "is a pipe or socket, not a file; give the path of a TOML file")
+            raise ScenarioError("scenario", p, "is a pipe or socket, not a file; give the path of a TOML file")
         chunks, size = [], 0
         while size <= MAX_BYTES:
             chunk = os.read(fd, MAX_BYTES + 1 - size)

@@ -10,6 +10,7 @@ import json
 import math
 import sys
 import time
+from pathlib import Path
 
 from physics.core.errors import ScenarioError
 from physics.scenario.scenario import Scenario
@@ -91,14 +92,14 @@ def run_design(sc: Scenario, args) -> int:
         try:
             write_csv(result, args.out)
         except OSError as exc:
-            raise ScenarioError("--out", args.out, f"cannot be written ({exc.strerror})") from None
+            raise ScenarioError("--out", Path(args.out), f"cannot be written ({exc.strerror})") from None
     if args.save:
         try:
             with open(args.save, "w", encoding="utf-8") as fh:
                 fh.write(f"# the optimum of python -m physics design ({result.objective}, {result.evaluations} "
                          "runs)\n" + result.scenario().to_toml())
         except OSError as exc:
-            raise ScenarioError("--save", args.save, f"cannot be written ({exc.strerror})") from None
+            raise ScenarioError("--save", Path(args.save), f"cannot be written ({exc.strerror})") from None
     if args.json:
         print(as_json(result))
         return 0

@@ -314,7 +314,7 @@ def _read_done(path: Path, header: list[str], keys: Sequence[str], metrics: Sequ
         if first is None:
             return done
         if first != header:
-            raise ScenarioError("out", str(path), f"holds a sweep with the columns {','.join(first)}, not "
+            raise ScenarioError("out", Path(path), f"holds a sweep with the columns {','.join(first)}, not "
                                 f"{','.join(header)}; give another --out or delete the file")
         for line in reader:
             if len(line) != len(header):
@@ -323,7 +323,7 @@ def _read_done(path: Path, header: list[str], keys: Sequence[str], metrics: Sequ
             if len(row["scenario"]) != len(tag):
                 continue  # cut inside its last column
             if row["scenario"] != tag:
-                raise ScenarioError("out", str(path), "holds a sweep of another scenario (its fingerprint "
+                raise ScenarioError("out", Path(path), "holds a sweep of another scenario (its fingerprint "
                                     f"{row['scenario']} is not {tag}); give another --out or delete the file")
             parsed = {k: float(row[k]) for k in keys}
             parsed.update({m: float(row[m]) for m in metrics})
@@ -489,7 +489,7 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
         try:
             fh = open(path, "a", newline="", encoding="utf-8")
         except OSError as exc:
-            raise ScenarioError("out", str(path), f"cannot be written ({exc.strerror})") from None
+            raise ScenarioError("out", Path(path), f"cannot be written ({exc.strerror})") from None
         writer = csv.writer(fh)
         if fresh:
             writer.writerow(header)
