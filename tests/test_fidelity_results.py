@@ -2,8 +2,9 @@
 bench fidelity --workers 2``, seed 15, 300 scenarios, scored again with today's estimates by ``--rescore``:
 bench/results/fidelity_calibration.csv and .meta.json), the check on a fresh seed drawn before the last estimate
 changed and scored only after it (seed 6007, 300 scenarios: bench/results/fidelity.csv and .meta.json), one drawn
-after it (seed 7919: fidelity_seed7919.*), and three earlier checks, each seen while an estimate was revised (seed 4099 when the safety factors were split; seed 2027
-found the pendulum's jump; seed 41); and the study's own arithmetic on hand-made rows.
+after it (seed 7919: fidelity_seed7919.*), and three earlier checks, each seen while an estimate was revised (seed
+4099 when the safety factors were split; seed 2027 found the pendulum's jump; seed 41); and the study's own arithmetic
+on hand-made rows.
 
 The pendulum's estimate was fitted on seeds 101, 202, 303, 15 and 2027 (issues 15 and 23)."""
 
