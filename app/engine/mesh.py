@@ -46,19 +46,20 @@ def load_mesh(path: str | Path, M: float) -> BodyMesh:
     Raises ScenarioError when it cannot be read or does not enclose a volume."""
     import trimesh
 
+    path = Path(path)  # named whole in an error (physics.ScenarioError shows a path's file name)
     try:
         mesh = trimesh.load(str(path), force="mesh")
     except Exception as exc:  # trimesh raises many kinds for unreadable files
-        raise physics.ScenarioError("--mesh", Path(path), f"cannot be read as a mesh ({exc})") from None
+        raise physics.ScenarioError("--mesh", path, f"cannot be read as a mesh ({exc})") from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        raise physics.ScenarioError("--mesh", Path(path), "holds no triangles")
+        raise physics.ScenarioError("--mesh", path, "holds no triangles")
     extent = float(np.max(np.abs(mesh.vertices))) if len(mesh.vertices) else 0.0
     if not EXTENT_MIN <= extent <= EXTENT_MAX:  # the inertia integrals are fifth powers of the coordinates
-        raise physics.ScenarioError("--mesh", Path(path), f"has coordinates up to {extent:.3g} in size; they must "
+        raise physics.ScenarioError("--mesh", path, f"has coordinates up to {extent:.3g} in size; they must "
                                     f"reach between {EXTENT_MIN:g} and {EXTENT_MAX:g} (m) so that its inertia "
                                     "stays within floating point: rescale the mesh")
     if not mesh.is_watertight or not mesh.volume > 0:
-        raise physics.ScenarioError("--mesh", Path(path), "must be a closed (watertight) surface enclosing a volume, "
+        raise physics.ScenarioError("--mesh", path, "must be a closed (watertight) surface enclosing a volume, "
                                     "so that its inertia is defined")
     mesh = mesh.copy()
     mesh.density = M / mesh.volume
@@ -67,17 +68,17 @@ def load_mesh(path: str | Path, M: float) -> BodyMesh:
             mesh.apply_transform(mesh.principal_inertia_transform)  # COM to the origin, principal axes along x, y, z
             I = np.asarray(mesh.moment_inertia, dtype=float)
     except (np.linalg.LinAlgError, ValueError, ArithmeticError) as exc:
-        raise physics.ScenarioError("--mesh", Path(path), f"its inertia cannot be computed ({exc}); "
+        raise physics.ScenarioError("--mesh", path, f"its inertia cannot be computed ({exc}); "
                                     "rescale the mesh") from None
     if not np.all(np.isfinite(I)) or not np.all(np.isfinite(mesh.vertices)):
-        raise physics.ScenarioError("--mesh", Path(path), "its inertia is not finite; rescale the mesh")
+        raise physics.ScenarioError("--mesh", path, "its inertia is not finite; rescale the mesh")
     order = principal_order(np.diag(I))
     P = np.eye(3)[order]  # new coordinates = P @ old
     if np.linalg.det(P) < 0:
         P[0] *= -1.0  # keep the frame right-handed
     vertices = np.asarray(mesh.vertices, dtype=float) @ P.T
     moments = np.diag(P @ I @ P.T).copy()
-    return BodyMesh(vertices=vertices, faces=np.asarray(mesh.faces), moments=moments, name=Path(path).name)
+    return BodyMesh(vertices=vertices, faces=np.asarray(mesh.faces), moments=moments, name=path.name)
 
 
 def with_mesh(sc: physics.Scenario, mesh: BodyMesh) -> physics.Scenario:

@@ -42,8 +42,8 @@ class _Progress:
         self.start = time.perf_counter()
 
     def __call__(self, done: int, budget: int, e: Evaluation) -> None:
-        if math.isfinite(score(self.goal, e.objective)) and (
-                math.isnan(self.best) or score(self.goal, e.objective) < score(self.goal, self.best)):
+        ranked = score(self.goal, e.objective)
+        if math.isfinite(ranked) and (math.isnan(self.best) or ranked < score(self.goal, self.best)):
             self.best = e.objective
         line = f"design: {done}/{budget} runs, best {self.objective} {self.best:.6g}"
         if self.tty:
