@@ -296,8 +296,8 @@ def test_chi_changes_the_trajectory(page):
 
 
 def test_choosing_a_preset_loads_it(page):
-    choose(page, "Preset", "Explorer 1's flat spin")
-    wait_until(page, lambda: "Explorer 1's flat spin" in readouts(page), "the preset in the readouts")
+    choose_until(page, "Preset", "Explorer 1's flat spin", lambda: "preset: Explorer 1's flat spin" in readouts(page),
+                 "the preset in the readouts")
     assert read(page, "theta").startswith("0.2")  # theta0 = 0.2 in prolate_flat_spin.toml
 
 

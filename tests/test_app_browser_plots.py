@@ -139,8 +139,7 @@ def _preset_with_the_largest_K() -> str:
 
 def test_tick_labels_of_a_large_nearly_constant_K(page):
     name = _preset_with_the_largest_K()
-    choose(page, "Preset", name)
-    wait_until(page, lambda: name in readouts(page), "the preset in the readouts")
+    choose_until(page, "Preset", name, lambda: f"preset: {name}" in readouts(page), "the preset in the readouts")
     page.wait_for_timeout(2500)
     click(page, "Pause")
     page.wait_for_timeout(800)
@@ -179,8 +178,8 @@ def _control(page, text: str) -> str:
 def test_the_prediction_starts_at_t0(page):
     from app.engine import presets
 
-    choose(page, "Preset", presets.DEFAULT)  # the moving mass: its averaged model predicts theta
-    wait_until(page, lambda: presets.DEFAULT in readouts(page), "the default scene")
+    choose_until(page, "Preset", presets.DEFAULT,  # the moving mass: its averaged model predicts theta
+                 lambda: f"preset: {presets.DEFAULT}" in readouts(page), "the default scene")
     choose(page, "Overlay prediction", "averaged")
     shown = wait_until(page, lambda: [c for c in charts(page) if "from t = 0" in c["title"]] or None,
                        "the prediction's chart")
