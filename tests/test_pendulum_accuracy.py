@@ -268,3 +268,14 @@ def test_a_cardan_bob_s_hardening_is_read_in_full_when_it_may_reach_the_resonanc
     actual = _actual(sc)
     assert short.bound < actual <= accuracy.scenario_parts(sc).bound
 
+
+def test_an_asymmetric_carrier_has_an_estimate_that_holds():
+    """The same draw as it was, B/A = 1.054 (no estimate before issue 23's last change: A != B was a structural
+    condition); its actual error, 1.37e-2 rad, was 1.21x the estimate computed with the short reach."""
+    data = {**SHORT_REACH_CASE, "body": {"A": 100.0, "B": 105.42390949880063, "C": 159.1770772919187,
+                                         "M": 510.62423328715977}}
+    sc = physics.Scenario.from_dict(data)
+    assert all(c.holds for c in validity.averaged_conditions(sc))
+    actual = _actual(sc)
+    assert actual > 1e-2
+    assert actual <= validity.error_bounds(sc, "averaged")

@@ -3,8 +3,9 @@
 Since issue 15 the averaged model's error is estimated (``accuracy.averaged_error_bound``: the detuning, the
 coupling, the damping, the amplitude nonlinearity and the horizon are all in it), so the old limits of docs/models.md
 B.10 on those no longer block it: ``auto`` runs it when the estimate meets run.accuracy. What remains are the
-structural conditions the estimate cannot cover: a spring (the model averages about omega_0), a symmetric
-carrier (its equations are for A = B), and the domain the estimate was calibrated on, stated in the pendulum's
+structural conditions the estimate cannot cover: a spring (the model averages about omega_0), a nearly
+symmetric carrier (its equations are for A = B; the estimate was calibrated for |A - B|/A up to 0.1), and the
+domain the estimate was calibrated on, stated in the pendulum's
 own swing amplitude from linear theory (not theta0: in weakly coupled cases the bob swings ~6 times theta0):
 the swing itself, and the amplitude-dependent detuning it causes against the resonance's width; and the
 coupling mu D^2/A.
@@ -23,7 +24,11 @@ from physics.systems.pendulum.accuracy import SAFETY, SAFETY_LINEAR, SWING_MAX, 
 from physics.systems.pendulum.geometry import pendulum_system
 from physics.systems.pendulum.linear import spherical_linear
 
-ASYM_MAX = 1e-9  # |A - B| / A: the averaged equations are for a symmetric carrier
+# |A - B| / A: the averaged equations are for a symmetric carrier (they take A as the mean of A and B), and the
+# estimate's linear part is the exact linear theory of the asymmetric one; over the 133 scenarios with B/A in
+# 1.01-1.1 of eight studies (docs/models.md B.10) the estimate held (worst actual / unscaled estimate 0.96, against
+# 1.51 for symmetric carriers), so the limit is the studies' range, where it was 1e-9
+ASYM_MAX = 0.1
 # the amplitude-dependent detuning (from the bob's swing in linear theory and theta0) over the resonance's width:
 # the calibration studies' range (their largest 56.5, seeds 15, 101, 202, 303). Beyond 1 the nonlinearity can pull
 # the pendulum across the resonance; since the detuning gap reads the resonance too (accuracy.parts), the unscaled
@@ -49,7 +54,8 @@ def averaged_conditions(sc: Scenario) -> list[Condition]:
     p = spherical_linear(system)
     if not p.omega0 > 0:  # no spring: no resonance to average about
         return [Condition("1/omega_0 (k = 0: no spring frequency)", math.inf, 0.0, "the pendulum has a spring")]
-    out = [Condition("|A - B| / A", abs(A - B) / A, ASYM_MAX, "the body is nearly symmetric (A close to B)"),
+    out = [Condition("|A - B| / A", abs(A - B) / A, ASYM_MAX,
+                     "the body's transverse moments differ by at most the calibrated 10 %"),
            Condition("mu D^2 / A", p.coupling, COUPLING_MAX, "the pendulum is light next to the body")]
     if all(c.holds for c in out):
         q = scenario_parts(sc)
