@@ -212,4 +212,5 @@ METHOD = ("the full model's theta predicted from the mass's steady forced motion
           f"x{SAFETY_FORCED:g} (1 + {PREDICTION_EPS2:g} eps^2) (what the prediction leaves, measured, grows as "
           "eps^2); quadratic friction alone: the full model's own start and a measured O(eps^2) rate error along the "
           f"closed form, judged by the viscous chi of the same slow rate, x{SAFETY:g}; calibrated against the full "
-          "model (python -m bench fidelity, seeds 15, 2027 and 41), checked on seeds 4099 and 6007 (docs/models.md)")
+          "model (python -m bench fidelity, seeds 15, 2027 and 41), checked on seeds 4099, 6007 and 9311 "
+          "(docs/models.md)")

@@ -40,7 +40,8 @@ COUPLING_MAX = 0.02  # mu D^2 / A: the calibration study's range (its largest we
 # derived's ``error_bound_method`` and the explorer's badge: how the estimate is obtained, in one sentence
 METHOD = ("the averaged model's distance from the exact linear theory plus its change under the amplitude-"
           "dependent detuning (spin-up W theta0^2/2, the bob's swing from linear theory or at resonance, where "
-          "it can jump there), over [0, t_end], "
+          "it can jump there) and, on an asymmetric carrier, its free nutation's departure from the linear one, "
+          "over [0, t_end], "
           f"each times a safety factor ({SAFETY_LINEAR:g} on the linear part, {SAFETY:g} on the nonlinear) "
           "calibrated against the full model (python -m bench fidelity, "
           "docs/models.md)")
