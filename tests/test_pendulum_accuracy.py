@@ -292,6 +292,17 @@ def test_the_polhode_gap_is_third_order_in_theta_and_nil_on_a_symmetric_carrier(
     assert accuracy.polhode_gap(symmetric, 0.1, 0.05, 1e4) == 0.0
 
 
+@pytest.mark.parametrize("W, B", [(1e-7, 105.0), (0.0, 105.0), (1.0, 149.999)], ids=["near 90 deg", "at 90 deg",
+                                                                                  "near the separatrix"])
+def test_the_polhode_gap_claims_nothing_where_the_free_motion_outruns_its_linearisation(W, B):
+    """A nutation near 90 deg (the spin W tiny against the transverse rate) or a spin near the separatrix (C close
+    to B) has no linear rate to speak of: integrating the exact motion over POLHODE_TURNS of it would take steps
+    without bound (27 s for theta0 = 1.5707 over 1e7 s, before the bound), so the gap is inf, and the estimate with
+    it."""
+    p = pl.SphericalLinear(A=100.0, C=150.0, W=W, mu=0.0, l=1.0, D=0.0, k=1.0, c_d=0.0, B=B)
+    assert accuracy.polhode_gap(p, 1.0, 0.0, 1e9) == math.inf
+
+
 # a fresh draw (seed 8111, scenario 10): an asymmetric carrier (B/A = 1.056) nutating wide (theta0 = 0.27 rad). The
 # averaged model's error is nearly all the swing of theta it lacks (linear_gap 3.63e-2 rad; the nonlinear gaps 1 %
 # of it), but the actual error is 1.11 times linear_gap: the swing's own nonlinearity

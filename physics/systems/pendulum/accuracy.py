@@ -70,6 +70,7 @@ SWING_MAX = 1.0  # rad, the bob's largest swing in linear theory the conditions 
 POINTS_PER_TURN = 8  # grid points per period of the fastest linear frequency, to see the ripple's peaks
 MIN_POINTS, MAX_POINTS = 2001, 40001  # the grid's size: the slow envelope always, the ripple while affordable
 POLHODE_TURNS = 4  # free-nutation turns over which polhode_gap reads theta's extremes (they come in each turn)
+POLHODE_MAX_TURNS = 100  # the most turns of its fastest rate the exact free motion may take over them (the study's ~10)
 
 
 @dataclass(frozen=True)
@@ -160,15 +161,23 @@ def polhode_gap(p: SphericalLinear, wx: float, wy: float, t_end: float) -> float
 
     bob = p.mu * p.D**2  # the frozen system: the bob at rest on the axis adds mu D^2 to A and B
     A, B, C, W = p.A + bob, p.B + bob, p.C, p.W
+    size = math.sqrt(wx * wx + wy * wy + W * W)
+    if size == 0:
+        return 0.0
     rate = abs(W) * math.sqrt(abs((C - A) * (C - B) / (A * B)))
-    if not rate > 0:
+    span = min(t_end, POLHODE_TURNS * 2 * math.pi / rate) if rate > 0 else t_end
+    # the exact motion turns at up to ~|w| max|Euler coefficient|; where that is many times the linear rate (a
+    # nutation near 90 deg, a spin near the separatrix) the linearisation does not hold, and integrating would cost
+    # without bound: no estimate
+    fastest = size * max(abs(B - C) / A, abs(C - A) / B, abs(A - B) / C)
+    if not (rate > 0 and span * fastest <= POLHODE_MAX_TURNS * 2 * math.pi):
         return math.inf
-    t = np.linspace(0.0, min(t_end, POLHODE_TURNS * 2 * math.pi / rate), 4001)
+    t = np.linspace(0.0, span, 4001)
 
     def euler(_, w):
         return [(B - C) / A * w[1] * w[2], (C - A) / B * w[2] * w[0], (A - B) / C * w[0] * w[1]]
 
-    w = solve_ivp(euler, (0.0, t[-1]), [wx, wy, W], method="DOP853", rtol=1e-11, atol=1e-14 * abs(W), t_eval=t).y
+    w = solve_ivp(euler, (0.0, span), [wx, wy, W], method="DOP853", rtol=1e-11, atol=1e-14 * size, t_eval=t).y
     exact = np.arctan2(np.hypot(A * w[0], B * w[1]), C * w[2])
     c, s = np.cos(rate * t), np.sin(rate * t)  # linearised about w3 = W: A w1' = (B - C) W w2, B w2' = (C - A) W w1
     w1 = wx * c + (B - C) / A * W * wy / rate * s
