@@ -149,6 +149,21 @@ def test_a_fault_before_the_first_step_names_the_changed_key(name, key, value):
     assert f"the most extreme value is {key} = " in str(err.value)
 
 
+def test_a_subnormal_value_is_named_as_the_most_extreme_not_raised_as_a_math_domain_error():
+    """A fault on a scenario holding 5e-324 (the smallest double): the value's distance from its key's usual span
+    divided it by the span's top, which underflowed to 0, and log10(0) raised ValueError from inside the handler
+    that turns a failure into a fault naming a key (found by a fuzz of the asymmetric pendulum carriers)."""
+    from physics.core.blame import most_extreme
+
+    sc = physics.Scenario.from_dict({"body": {"A": 100.0, "B": 100.95667768880405, "C": 100.00001, "M": 100.0},
+                                     "pendulum": {"m": 5e-324, "l": 0.1, "h": -10, "k": 1e-12, "c_d": 1e-300},
+                                     "initial": {"G0": 1e-06, "theta0": 1.5707963}, "run": {"t_end": 5e-324}})
+    assert most_extreme(sc) == ("pendulum.m", 5e-324)  # 323 decades from 1 (run.t_end: 320 under its 1e-3)
+    with pytest.raises((ScenarioError, NumericalFault), match="5e-324"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        physics.derived(sc)
+
+
 def test_a_bob_placed_beyond_any_carrier_is_blamed_on_its_own_key_not_on_body_a():
     sc = physics.Scenario.load(RESONANT)
     with pytest.raises(ScenarioError, match=r"^pendulum\.h = 9\.2e\+18: places a bob so far from O"):

@@ -30,8 +30,11 @@ def _decades(x: float, span: tuple[float, float] | None) -> float:
         return abs(math.log10(abs(x)))
     lo, hi = span
     top = max(abs(lo), abs(hi))
-    over = math.log10(abs(x) / top) if top > 0 else 0.0
-    under = math.log10(lo / abs(x)) if lo > 0 else 0.0
+    # differences of logarithms, not logarithms of quotients: 5e-324 / 1e6 underflows to 0, whose log10 raised
+    # ValueError here, out of the very handler that turns failures into a fault naming a key
+    size = math.log10(abs(x))
+    over = size - math.log10(top) if top > 0 else 0.0
+    under = math.log10(lo) - size if lo > 0 else 0.0
     return max(0.0, over, under)
 
 
