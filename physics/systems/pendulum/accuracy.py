@@ -44,6 +44,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+from scipy.integrate import solve_ivp
 
 from physics.scenario.initial import initial_G
 from physics.systems.pendulum.averaged import AveragedCoefficients, averaged_theta
@@ -157,7 +158,6 @@ def polhode_gap(p: SphericalLinear, wx: float, wy: float, t_end: float) -> float
     turns at its own amplitude-dependent rate, and the averaged model's error responds to the swing's reach."""
     if p.B is None or p.B == p.A:
         return 0.0
-    from scipy.integrate import solve_ivp
 
     bob = p.mu * p.D**2  # the frozen system: the bob at rest on the axis adds mu D^2 to A and B
     A, B, C, W = p.A + bob, p.B + bob, p.C, p.W
@@ -165,19 +165,24 @@ def polhode_gap(p: SphericalLinear, wx: float, wy: float, t_end: float) -> float
     if size == 0:
         return 0.0
     rate = abs(W) * math.sqrt(abs((C - A) * (C - B) / (A * B)))
-    span = min(t_end, POLHODE_TURNS * 2 * math.pi / rate) if rate > 0 else t_end
+    if not rate > 0:  # a spin at 90 deg, or C = A or B: no linear nutation to compare with
+        return math.inf
+    span = min(t_end, POLHODE_TURNS * 2 * math.pi / rate)
     # the exact motion turns at up to ~|w| max|Euler coefficient|; where that is many times the linear rate (a
     # nutation near 90 deg, a spin near the separatrix) the linearisation does not hold, and integrating would cost
     # without bound: no estimate
     fastest = size * max(abs(B - C) / A, abs(C - A) / B, abs(A - B) / C)
-    if not (rate > 0 and span * fastest <= POLHODE_MAX_TURNS * 2 * math.pi):
+    if not span * fastest <= POLHODE_MAX_TURNS * 2 * math.pi:
         return math.inf
     t = np.linspace(0.0, span, 4001)
 
     def euler(_, w):
         return [(B - C) / A * w[1] * w[2], (C - A) / B * w[2] * w[0], (A - B) / C * w[0] * w[1]]
 
-    w = solve_ivp(euler, (0.0, span), [wx, wy, W], method="DOP853", rtol=1e-11, atol=1e-14 * size, t_eval=t).y
+    sol = solve_ivp(euler, (0.0, span), [wx, wy, W], method="DOP853", rtol=1e-11, atol=1e-14 * size, t_eval=t)
+    if not sol.success:
+        return math.inf
+    w = sol.y
     exact = np.arctan2(np.hypot(A * w[0], B * w[1]), C * w[2])
     c, s = np.cos(rate * t), np.sin(rate * t)  # linearised about w3 = W: A w1' = (B - C) W w2, B w2' = (C - A) W w1
     w1 = wx * c + (B - C) / A * W * wy / rate * s
