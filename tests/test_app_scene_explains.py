@@ -75,6 +75,14 @@ def test_the_legend_follows_the_view_the_polhode_the_mesh_and_the_factor():
     assert "at rest" in averaged and "spring" not in averaged  # no displacement drawn, no factor claimed
 
 
+def test_e3_is_called_the_symmetry_axis_only_on_a_symmetric_body():
+    sc = physics.default_scenario()
+    assert "e3: symmetry axis" in legend_markdown(parts_of(sc))
+    lopsided = sc.with_values(**{"body.B": 1.05 * sc.body.A})
+    text = legend_markdown(parts_of(lopsided))
+    assert "symmetry axis" not in text and "e3: principal axis of C" in text
+
+
 def test_a_stopped_braking_torque_leaves_the_legend():
     sc = _preset_with(_braking)
     assert "torque" in _keys(sc) and "torque" not in _keys(sc, braking=False)

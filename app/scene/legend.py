@@ -56,6 +56,7 @@ class SceneParts:
     view: str = "inertial"
     mesh: str | None = None
     second: str | None = None  # compare mode: what the second (orange) body runs with, e.g. "m = 0 kg"
+    symmetric: bool = True  # A = B: e3 is the body's symmetry axis; else only the principal axis of C
 
 
 SECOND_BODY = ((235, 140, 50),)  # app.scene.compare_view.BODY_COLOR (not imported here: it imports this module)
@@ -76,7 +77,8 @@ def parts_of(scenario, *, view: str = "inertial", polhode: bool = False, mesh: s
         figure = physics.get_system(scenario.system).figure(scenario, _start(scenario) if state is None else state,
                                                              drawn)
     return SceneParts(figure=figure_entries(figure), braking=bool(braking), polhode=bool(polhode),
-                      sphere=bool(sphere), view=view, mesh=mesh, second=second)
+                      sphere=bool(sphere), view=view, mesh=mesh, second=second,
+                      symmetric=scenario.body.A == scenario.body.B)
 
 
 def _start(sc) -> dict[str, float]:
@@ -102,7 +104,8 @@ def entries(p: SceneParts) -> list[Entry]:
     inertial = p.view != "body"
     out = [Entry("K", "arrow", (COLORS["K"],), "K: angular momentum" + (", fixed (up)" if inertial else "")),
            Entry("omega", "arrow", (COLORS["omega"],), "omega: angular velocity"),
-           Entry("e3", "arrow", (COLORS["axis"],), "e3: symmetry axis of the body")]
+           Entry("e3", "arrow", (COLORS["axis"],), "e3: symmetry axis of the body" if p.symmetric
+                 else "e3: principal axis of C (A != B)")]
     if p.braking:
         out.append(Entry("torque", "arrow", (COLORS["torque"],),
                          "control torque: the brake's (against K) or a thruster's"))
