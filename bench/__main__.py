@@ -25,6 +25,8 @@ STUDIES = {
     "corrections": ("corrections", "the evidence figures of docs/corrections.md, recomputed (issue 17)"),
     "challenge": ("challenge", "the braking challenge's scripted player against the optimal law, every level"),
     "design": ("design", "a damper's design against the 20 x 20 grid over the same bounds: runs, wall time, optimum"),
+    "pendulum-hardening": ("pendulum_hardening", "the pendulum's averaged model with a detuning that follows the bob's "
+                                                 "swing, against the full model (issue 23)"),
     "explorer-startup": ("explorer_startup", "time from `python -m app` to the scene drawn in chromium (--cold: "
                                              "first start)"),
 }

@@ -39,6 +39,7 @@ OPTIONS = {
     "corrections": ["--out"],
     "challenge": ["--starts", "--reactions", "--out", "--img"],
     "design": ["--n", "--workers", "--out", "--img"],
+    "pendulum-hardening": ["--study", "--limit", "--out", "--img"],
     "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
 }
 
