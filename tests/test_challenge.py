@@ -14,6 +14,7 @@ import pytest
 
 import physics
 from app.engine import challenge
+from app.engine.buffers import PENDING_EACH
 from app.engine.engine import Engine
 
 DT = 0.05  # the players' reaction time (s): one decision per step
@@ -148,11 +149,11 @@ def test_let_go_stops_the_thruster_at_once_and_a_repeat_sent_before_it_is_droppe
 
 def test_a_flood_of_thrusts_queues_a_bounded_few_and_the_latest_counts():
     """A raw client's hold messages at any rate, alternating thrusters (each switch a retune): at most
-    PENDING_THRUSTS wait for the next tick, the latest kept."""
+    PENDING_EACH wait for the next tick, the latest kept."""
     eng = started("rigid")
     for i in range(10_000):
         eng.request("thrust", "+e1" if i % 2 else "-e1")
-    assert sum(a == "thrust" for a, _ in eng._actions) == challenge.PENDING_THRUSTS
+    assert sum(a == "thrust" for a, _ in eng._actions) == PENDING_EACH
     eng._apply_pending()
     assert eng.challenge.thruster == "+e1" and eng.error == ""
 

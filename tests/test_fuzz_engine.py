@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from app.engine import controls, presets
+from app.engine.buffers import PENDING_EACH
 from app.state import FRAME_HZ, Engine
 
 pytestmark = [pytest.mark.filterwarnings("ignore::physics.ValidityWarning"),
@@ -105,3 +106,19 @@ def test_an_overlay_that_is_not_offered_is_refused_and_no_worker_starts(sent, ca
     assert "overlay" in eng.error and "expected one of none, averaged, closed" in eng.error
     assert eng.overlay_fidelity == "none" and eng.prediction.thread is None
     assert "Traceback" not in capfd.readouterr().err  # before, the worker thread died printing one
+
+
+def test_a_flood_of_any_action_queues_a_bounded_few_and_the_latest_counts():
+    """A raw client's clicks at any rate between two ticks: at most PENDING_EACH of each action wait, so one tick
+    applies a bounded few (10,000 Resets would each start a new run), and the latest request of each counts."""
+    eng = Engine()
+    eng.tick(1 / FRAME_HZ)
+    for i in range(10_000):
+        eng.request("reset")
+        eng.request("warp", float(1 + i % 50))
+        eng.request("play" if i % 2 else "pause")
+    queued = [a for a, _ in eng._actions]
+    assert len(queued) == 4 * PENDING_EACH  # reset, warp, play and pause
+    assert queued.count("reset") == queued.count("warp") == PENDING_EACH
+    fr = eng.tick(1 / FRAME_HZ)
+    assert eng.warp == 50.0 and eng.playing and not eng._actions and eng.error == "" and fr.status == "running"

@@ -36,7 +36,6 @@ HOLD_S = 0.5
 # the page says "off" when a key or button is let go (the Thrusters off button, clicked by its script): a repeat of
 # the same thruster handled within this after it was sent before it, and is dropped
 RELEASE_GRACE_S = 0.2
-PENDING_THRUSTS = 8  # thrust requests queued between two ticks at most (Engine.request drops the oldest)
 SEEDS = 10_000  # a seed is a whole number in [0, SEEDS)
 THETA0 = (0.35, 1.1)  # the start's nutation angle (rad), drawn from the seed
 

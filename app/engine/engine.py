@@ -26,6 +26,7 @@ from .actions import act, choices_of, system_actions, with_choices
 from .buffers import (
     EDITS_LISTED,
     HISTORY_ROWS,
+    PENDING_EACH,
     PLOT_POINTS,
     RECENT,
     RETUNES_KEPT,
@@ -110,10 +111,10 @@ class Engine:
         """Actions: play, pause, step, reset, warp, preset, system, fidelity, restart_on_change,
         view, overlay, ... (app.engine.actions.ACTIONS), and each system's own by name (physics.figure.Action)."""
         with self._lock:
-            if action == "thrust" and sum(a == "thrust" for a, _ in self._actions) >= challenge.PENDING_THRUSTS:
-                # a held button repeats 10 times a second: more than this between two ticks is a client flooding,
-                # and each switch of thruster is a retune; the latest presses are the ones that count
-                first = next(i for i, (a, _) in enumerate(self._actions) if a == "thrust")
+            if sum(a == action for a, _ in self._actions) >= PENDING_EACH:
+                # more than a person clicks (a held button repeats 10 times a second) between two ticks is a
+                # client flooding: the latest requests are the ones that count
+                first = next(i for i, (a, _) in enumerate(self._actions) if a == action)
                 del self._actions[first]
             self._actions.append((action, value))
             return self._bump()
