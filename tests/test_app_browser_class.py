@@ -50,22 +50,6 @@ def wait(page, predicate, what: str):
                              f"{readouts(page)!r}") from None
 
 
-def press(page, name: str, done, what: str, tries: int = 3):
-    """Click the button ``name`` until ``done()`` holds, and return its value. Forced and given WAIT_MS: while
-    tabs play, software WebGL keeps each page's main thread so busy that Playwright's wait for a button to hold
-    still (two animation frames alike) outlasted 30 s on a loaded machine; the click's effect, read from the
-    page, is what counts, so a click the page missed is made again (Pause, Play and Reset repeat harmlessly)."""
-    for attempt in range(tries):
-        page.get_by_role("button", name=name, exact=True).click(force=True, timeout=WAIT_MS)
-        try:
-            return wait_until(page, done, what, WAIT_MS // tries)
-        except pytest.fail.Exception:
-            if attempt == tries - 1:
-                raise AssertionError(f"timed out waiting for {what} after {tries} clicks on {name!r}; the page's "
-                                     f"status: {status(page)!r}; its readouts: {readouts(page)!r}") from None
-    return None
-
-
 def status(page) -> str:
     return page.evaluate(STATUS_JS)
 
@@ -117,7 +101,7 @@ def test_a_class_lecturer_and_three_students(browser, links):
     wait(early, lambda: read(early, "t") != t_early, "the early student's t moving with the class run")
     # Paused before the third tab opens: three tabs decoding 60 frames per second on two cores (with the
     # server and pytest) made each click wait minutes; a paused class sends nothing.
-    press(lecturer, "Pause", lambda: "· paused" in status(lecturer), "the lecturer's pause")
+    click(lecturer, "Pause")
     wait(early, lambda: "· paused" in status(early), "the lecturer's pause")
     late = open_tab(browser, links["students"], {"width": 1024, "height": 768})
     third = open_tab(browser, links["students"], {"width": 1280, "height": 800})
@@ -147,12 +131,12 @@ def test_a_class_lecturer_and_three_students(browser, links):
     for page in students:
         wait(page, lambda page=page: read(page, "T") == "no braking", "the lecturer's second edit (no braking)")
     t_edit = read(lecturer, "t")
-    press(lecturer, "Play", lambda: "· playing" in status(lecturer), "the lecturer's play")
+    click(lecturer, "Play")
     wait(early, lambda: "· playing" in status(early) and read(early, "t") != t_edit, "the class run playing")
-    t_paused = press(lecturer, "Pause", lambda: "· paused" in status(lecturer) and read(lecturer, "t"),
-                     "the lecturer's pause")
-    press(lecturer, "Reset", lambda: read(lecturer, "t") != t_paused,  # paused: back to the start, staying there
-          "the lecturer's reset")
+    click(lecturer, "Pause")
+    t_paused = wait(lecturer, lambda: "· paused" in status(lecturer) and read(lecturer, "t"), "the lecturer's pause")
+    click(lecturer, "Reset")  # paused: back to the start, and staying there
+    wait(lecturer, lambda: read(lecturer, "t") != t_paused, "the lecturer's reset")
     t_start = read(lecturer, "t")
     assert float(t_start.split()[0]) < float(t_paused.split()[0])
     for page in students:
