@@ -137,6 +137,7 @@ def test_let_go_stops_the_thruster_at_once_and_a_repeat_sent_before_it_is_droppe
     eng.request("thrust", "+e2")
     eng._apply_pending()
     assert eng.challenge.thruster == "+e2"
+    eng._advance(0.05)  # held for a tick
     eng.request("thrust", "off")  # the page's Thrusters off, clicked as the key is let go
     eng.request("thrust", "+e2")  # a hold message the thread pool handled after it
     eng._apply_pending()
@@ -145,6 +146,34 @@ def test_let_go_stops_the_thruster_at_once_and_a_repeat_sent_before_it_is_droppe
     eng.request("thrust", "+e2")  # pressed again later: fires
     eng._apply_pending()
     assert eng.challenge.thruster == "+e2"
+
+
+def test_a_tap_between_two_ticks_fires_for_the_next_tick_and_then_stops():
+    """Pressed and let go before the loop advances (a busy server's tick is longer than a quick tap): the thruster
+    fires for the tick that follows and is off after it, so a tap is never lost."""
+    eng = started("rigid")
+    K0 = float(eng.run.last.K[0])
+    eng.request("thrust", "-e3")
+    eng.request("thrust", "off")
+    eng._apply_pending()
+    assert eng.challenge.thruster == "-e3" and eng.challenge.release_due
+    eng._advance(0.1)
+    ch = eng.challenge
+    assert ch.thruster is None and eng.scenario.control.b == 0.0 and not ch.release_due
+    assert ch.fired == pytest.approx(0.1, rel=1e-12)
+    K1 = float(eng.run.last.K[0])
+    assert K1 < K0  # the tap braked: |K| falls at most b per second, and by at least a part of it
+    assert K0 - K1 <= ch.b * 0.1 * (1 + 1e-9)
+    eng._advance(0.1)  # and no more after it
+    assert ch.fired == pytest.approx(0.1, rel=1e-12)
+    eng.request("thrust", "+e1")
+    eng.request("thrust", "off")
+    eng._apply_pending()
+    eng.challenge.released = ("+e1", eng.challenge.released[1] - challenge.RELEASE_GRACE_S)
+    eng.request("thrust", "+e1")  # pressed again before the tick: held, not tapped
+    eng._apply_pending()
+    eng._advance(0.1)
+    assert ch.thruster == "+e1"
 
 
 def test_a_flood_of_thrusts_queues_a_bounded_few_and_the_latest_counts():

@@ -7,7 +7,8 @@ nutation angle, so every tab given the same level and seed races from the same s
 student's |K| falls below FINISH of its start (the score is T / T_student, T the optimal law's closed-form braking
 time, seed 004 eq. (11), the medium included) or, out of time, at LIMIT T. A thruster fires from a press (a button
 or its key) until it is let go (the page then clicks Thrusters off), or HOLD_S after the last press if that word
-is lost: viser's buttons repeat while held (10 times a second), the page's key script likewise.
+is lost: viser's buttons repeat while held (10 times a second), the page's key script likewise. A tap fires for at
+least the tick that follows it, however busy the loop: let go before any advance, it stops after the next.
 """
 
 from __future__ import annotations
@@ -115,6 +116,10 @@ class Challenge:
     out_of_time: bool = False
     fired: float = 0.0  # simulated seconds with a thruster on
     released: tuple = (None, -math.inf)  # (thruster, time.monotonic()) of the last "off"
+    # the thruster firing has not been through an advance yet: a let-go now waits for one (a tap, pressed and let
+    # go between two ticks of a busy loop, would otherwise fire for no time at all)
+    unfired: bool = False
+    release_due: bool = False  # let go before its first advance: off after the next
 
     @classmethod
     def new(cls, level: str, seed) -> Challenge:
@@ -214,10 +219,14 @@ def thrust(eng, value) -> None:
     now = time.monotonic()
     if fire is None:
         ch.released = (ch.thruster, now)
+        if ch.thruster is not None and ch.unfired:
+            ch.release_due = True  # a tap: it fires for the next tick, then stops
+            return
     elif ch.released[0] == fire and now - ch.released[1] < RELEASE_GRACE_S:
         return  # a repeat sent before the release, handled after it (viser runs callbacks in a thread pool)
     else:
         ch.until = now + HOLD_S
+        ch.release_due = False  # pressed again: held, not tapped
     if fire != ch.thruster:
         _switch(eng, ch, fire)
 
@@ -226,6 +235,7 @@ def _switch(eng, ch: Challenge, fire: str | None) -> None:
     """The student's run goes on from its state with ``fire`` on (not an edit: nothing to undo, nothing logged)."""
     eng.run.retune(ch.student(fire), keep_state=True)
     ch.thruster = fire
+    ch.unfired, ch.release_due = fire is not None, False
 
 
 def before_advance(eng, now: float | None = None) -> None:
@@ -240,8 +250,11 @@ def after_advance(eng, rows: np.ndarray, dt: float) -> None:
     ch = eng.challenge
     if ch is None or ch.over:
         return
-    if ch.thruster is not None:
+    if ch.thruster is not None and dt > 0:
         ch.fired += dt
+        ch.unfired = False
+        if ch.release_due:
+            _switch(eng, ch, None)
     ch.check(rows)
     if ch.over:
         if ch.thruster is not None:
