@@ -176,6 +176,23 @@ def test_a_tap_between_two_ticks_fires_for_the_next_tick_and_then_stops():
     assert ch.thruster == "+e1"
 
 
+def test_a_tap_fires_for_as_long_as_it_was_held_and_the_tick_goes_on_without_it():
+    """A tick longer than the tap: the thruster fires for the tap's held seconds (at least TAP_MIN_S), then the
+    same tick goes on with it off, so a student's quick taps brake by little, as on a quiet server."""
+    eng = started("rigid")
+    eng.request("thrust", "+e1")
+    eng.request("thrust", "off")
+    eng._apply_pending()
+    ch = eng.challenge
+    assert ch.tap_s == pytest.approx(challenge.TAP_MIN_S)  # let go at once: a frame's worth
+    ch.tap_s = 0.06  # as held by a hand
+    t0 = eng.run.t
+    eng.tick(0.25)
+    assert ch.thruster is None and not ch.release_due
+    assert ch.fired == pytest.approx(0.06, rel=1e-12)
+    assert eng.run.t - t0 > 0.06  # the tick went on past the tap
+
+
 def test_a_flood_of_thrusts_queues_a_bounded_few_and_the_latest_counts():
     """A raw client's hold messages at any rate, alternating thrusters (each switch a retune): at most
     PENDING_EACH wait for the next tick, the latest kept."""

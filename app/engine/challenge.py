@@ -7,8 +7,9 @@ nutation angle, so every tab given the same level and seed races from the same s
 student's |K| falls below FINISH of its start (the score is T / T_student, T the optimal law's closed-form braking
 time, seed 004 eq. (11), the medium included) or, out of time, at LIMIT T. A thruster fires from a press (a button
 or its key) until it is let go (the page then clicks Thrusters off), or HOLD_S after the last press if that word
-is lost: viser's buttons repeat while held (10 times a second), the page's key script likewise. A tap fires for at
-least the tick that follows it, however busy the loop: let go before any advance, it stops after the next.
+is lost: viser's buttons repeat while held (10 times a second), the page's key script likewise. A tap (pressed and let
+go between two ticks: a busy loop ticks slower than a quick tap) fires for as long as it was held, at least
+TAP_MIN_S, at the start of the next tick, which goes on with the thruster off.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ HOLD_S = 0.5
 # the page says "off" when a key or button is let go (the Thrusters off button, clicked by its script): a repeat of
 # the same thruster handled within this after it was sent before it, and is dropped
 RELEASE_GRACE_S = 0.2
+TAP_MIN_S = 1 / 30  # a tap fires at least a frame's worth, however short the page made it
 SEEDS = 10_000  # a seed is a whole number in [0, SEEDS)
 THETA0 = (0.35, 1.1)  # the start's nutation angle (rad), drawn from the seed
 
@@ -120,6 +122,8 @@ class Challenge:
     # go between two ticks of a busy loop, would otherwise fire for no time at all)
     unfired: bool = False
     release_due: bool = False  # let go before its first advance: off after the next
+    pressed_at: float = 0.0  # time.monotonic() at which the thruster firing now went on
+    tap_s: float = 0.0  # a tap's held wall seconds (let go before its first advance)
 
     @classmethod
     def new(cls, level: str, seed) -> Challenge:
@@ -220,7 +224,8 @@ def thrust(eng, value) -> None:
     if fire is None:
         ch.released = (ch.thruster, now)
         if ch.thruster is not None and ch.unfired:
-            ch.release_due = True  # a tap: it fires for the next tick, then stops
+            ch.release_due = True  # a tap: it fires as long as it was held, in the next tick, then stops
+            ch.tap_s = max(now - ch.pressed_at, TAP_MIN_S)
             return
     elif ch.released[0] == fire and now - ch.released[1] < RELEASE_GRACE_S:
         return  # a repeat sent before the release, handled after it (viser runs callbacks in a thread pool)
@@ -236,6 +241,15 @@ def _switch(eng, ch: Challenge, fire: str | None) -> None:
     eng.run.retune(ch.student(fire), keep_state=True)
     ch.thruster = fire
     ch.unfired, ch.release_due = fire is not None, False
+    ch.pressed_at = time.monotonic()
+
+
+def tap_seconds(eng) -> float | None:
+    """Simulated seconds the next advance fires a tap for before it stops (None: no tap waiting)."""
+    ch = eng.challenge
+    if ch is None or ch.thruster is None or not ch.release_due:
+        return None
+    return ch.tap_s * eng.warp
 
 
 def before_advance(eng, now: float | None = None) -> None:

@@ -422,7 +422,12 @@ class Engine:
         if self.playing:
             t0 = self.run.t
             wall = self.clock.frame_wall(wall_dt)
-            self._advance(self.warp * wall, floor=wall)
+            tap = challenge.tap_seconds(self)
+            if tap is not None and tap < self.warp * wall:  # a tap fires as long as it was held, then stops
+                self._advance(tap)
+                self._advance(self.warp * wall - tap, floor=wall - tap / self.warp)
+            else:
+                self._advance(self.warp * wall, floor=wall)
             self.clock.played(self.run.t - t0, max(wall_dt, 0.0))  # the wall time that passed, unclipped
         else:
             self.clock.paused()
