@@ -40,6 +40,11 @@ def share_of_start(words: str) -> float:
     return float(m.group(1))
 
 
+def over(words: str) -> bool:
+    """The race's words say it has ended: stopped and scored, or out of time."""
+    return "score T / T_you" in words or "out of time:" in words
+
+
 def elapsed(words: str) -> float:
     m = re.search(r"elapsed (\d+\.\d) s", words)
     assert m, words
@@ -51,8 +56,7 @@ def wait_fresh(pg, let_go: float) -> None:
     busy drawing shows them late, and a tap decided on stale words brakes what is already braked."""
     def fresh() -> bool:
         words = race(pg)
-        return ("score T / T_you" in words or "out of time:" in words
-                or ("thruster: off" in words and elapsed(words) >= let_go + 0.2))
+        return over(words) or ("thruster: off" in words and elapsed(words) >= let_go + 0.2)
     wait_until(pg, fresh, "the race's words after the key was let go", 10_000)
 
 
@@ -121,7 +125,7 @@ def test_a_student_who_reads_k_off_the_page_stops_the_body_and_is_scored(page, a
             if looked is not None:
                 look_s = max(0.8 * look_s, now - looked)
             looked = now
-            if "score T / T_you" in words or "out of time:" in words:
+            if over(words):
                 break
             m = AIM.search(words)
             if m:

@@ -62,6 +62,14 @@ def _value(text: str) -> float:
     return float(text.split()[0])
 
 
+def wait_for(eng: Engine, done, timeout_s: float = 60.0) -> None:
+    """Until ``done()`` holds (the end state's thread sets what it reads), failing with the readouts after timeout_s."""
+    deadline = time.monotonic() + timeout_s
+    while not done():
+        assert time.monotonic() < deadline, eng.readouts()
+        time.sleep(0.02)
+
+
 def engine_after(data: dict, frames: int = 20) -> Engine:
     eng = Engine(physics.Scenario.from_dict(data))
     for _ in range(frames):
@@ -104,10 +112,7 @@ def test_the_end_state_is_worked_out_off_the_loop_and_then_shown():
     assert first == "working it out..." or first.endswith(" J")  # a fast machine may have it already
     # waited for by what it shows, not by a thread's name: in a full suite an earlier test's engine may leave its
     # own "end state" thread running, and joining that one says nothing of this engine's
-    deadline = time.monotonic() + 60
-    while not eng.readouts()["energy still to lose"].endswith(" J"):
-        assert time.monotonic() < deadline, eng.readouts()
-        time.sleep(0.02)
+    wait_for(eng, lambda: eng.readouts()["energy still to lose"].endswith(" J"))
 
 
 def test_a_paused_run_is_told_to_redraw_its_readouts_when_the_end_state_is_ready():
@@ -119,10 +124,7 @@ def test_a_paused_run_is_told_to_redraw_its_readouts_when_the_end_state_is_ready
     assert eng.readouts()["energy still to lose"] == "working it out..."
     # waited for by what it sets, not by the thread's name: the tick's own thread may still be the one at work
     # (then no new one starts) or may have finished already
-    deadline = time.monotonic() + 60
-    while not (eng.plots_changed and eng.readouts()["energy still to lose"].endswith(" J")):
-        assert time.monotonic() < deadline, eng.readouts()
-        time.sleep(0.02)
+    wait_for(eng, lambda: eng.plots_changed and eng.readouts()["energy still to lose"].endswith(" J"))
 
 
 def test_braking_hides_them_and_says_none():
