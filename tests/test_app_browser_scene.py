@@ -188,3 +188,32 @@ def test_at_10000x_the_trail_stays_a_ring(page, app, tmp_path):
         page.screenshot(path=str(tmp_path / f"warp10000_{w}x{h}.png"))
     page.set_viewport_size({"width": 1400, "height": 900})
     assert re.search(r"drawn as satellite\.stl", legend(page))
+
+
+ROW_JS = """() => {
+    const pause = [...document.querySelectorAll('button')].find(b => b.innerText.trim() === 'Pause');
+    const status = [...document.querySelectorAll('p')].find(p => p.innerText.includes('Quasirigid explorer'));
+    const r = pause.getBoundingClientRect(), s = status.getBoundingClientRect();
+    return {pause_top: r.top, pause_bottom: r.bottom, status_top: s.top, status_height: s.height,
+            status: status.innerText};
+}"""
+
+
+def row_when(page, words: str) -> dict | None:
+    """Where the Run row and the status line are, once the status line says ``words``."""
+    r = page.evaluate(ROW_JS)
+    return r if words in r["status"] else None
+
+
+def test_the_run_row_stays_put_while_the_status_line_changes_length(page):
+    """The CI run of 2026-11-26 timed out clicking Pause: at 1500x the status line under the row gained and lost
+    "(reaching N x: ...)" as the machine's pace moved, a line of text more or less, and the row moved under the
+    pointer. The row is above the status line now."""
+    set_warp(page, 4.0)  # whatever the status line says at 10000x on this machine
+    click(page, "Play")
+    playing = wait_until(page, lambda: row_when(page, "· playing"), "the status line while playing")
+    assert playing["pause_bottom"] <= playing["status_top"], playing  # the row above the status line
+    click(page, "Pause")
+    paused = wait_until(page, lambda: row_when(page, "· paused"), "the status line while paused")
+    assert paused["pause_top"] == playing["pause_top"], (playing, paused)
+    click(page, "Play")

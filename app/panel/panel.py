@@ -76,8 +76,10 @@ class Panel:
     def _build_gui(self) -> None:
         gui, eng = self.client.gui, self.engine
         gui.configure_theme(control_width="large", show_share_button=False)  # app.serve.guard.refuse_share_tunnel
+        # The Run row first: the status line below it grows and shrinks as it plays ("reaching N x" comes and goes
+        # with the machine's pace), and a row under it jumped as the pointer reached for Pause.
+        self.playbar = Playbar(gui, eng)
         self.status_md = gui.add_markdown("**Quasirigid explorer**")
-        self.playbar = Playbar(gui, eng)  # right under the status line: reached without scrolling
         self.readout_md = gui.add_markdown("")
         self.compare_md = gui.add_markdown("")  # compare mode: both runs' theta, |K| and E (app.engine.compare)
         self.error_md = gui.add_markdown("")

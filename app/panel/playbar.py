@@ -1,6 +1,7 @@
-"""Play, Pause, Step and Reset where a lecturer reaches them: one row of buttons under the status line
-(visible without scrolling at 1024x768), and the keys of MuJoCo's viewer, listed on the page: Space
-plays or pauses, R resets, the right arrow steps.
+"""Play, Pause, Step and Reset where a lecturer reaches them: one row of buttons at the top of the panel, above
+the status line, whose length changes as the run plays, so the row never moves under the pointer (visible
+without scrolling at 1024x768), and the keys of MuJoCo's viewer, listed on the page: Space plays or pauses,
+R resets, the right arrow steps.
 
 The keys are viser commands (``gui.add_command``, also in its command palette, Ctrl+K). The page ignores
 them while a text box has focus; a focused slider takes the arrow keys itself, and the page sends the

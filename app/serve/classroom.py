@@ -176,7 +176,7 @@ class ClassRoom:
                               klass=ClassChallenge(choice=board.choice, post=board.post))
             back = session.follow_button = client.gui.add_button(
                 FOLLOW, hint="leave your own run and follow the class run again",
-                order=session.panel.status_md.order - 1.0)  # above the status line
+                order=session.panel.playbar.buttons.order - 1.0)  # first in the panel: the way back
             back.on_click(lambda _event: self.follow(client))
             with self._lock:
                 if client.client_id in self._gone:
