@@ -277,3 +277,16 @@ def test_an_unreachable_scheduler_is_one_line_naming_it():
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert "dask = 'tcp://127.0.0.1:1': cannot be reached" in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_the_first_ctrl_c_asks_the_design_to_stop_and_a_second_one_interrupts():
+    """The command line's handler raises nothing on the first Ctrl-C (a KeyboardInterrupt raised where the signal
+    landed was lost in fork's hooks or escaped the design's handlers); the second is the way out of a long run."""
+    from physics.studies.design_cli import _CtrlC
+
+    stop = _CtrlC()
+    assert not stop.is_set()
+    stop(signal.SIGINT, None)
+    assert stop.is_set()
+    with pytest.raises(KeyboardInterrupt):
+        stop(signal.SIGINT, None)

@@ -53,6 +53,7 @@ OBJECTIVES = {"decay_time": "min_positive", "braking_time": "min", "theta_end": 
 MAX_KEYS = 4
 START_LEVELS = {1: 8, 2: 5, 3: 3, 4: 2}  # coarse points per key: 8, 25, 27, 16 runs
 STARTS = 2  # refinements, from the best distinct coarse points
+STOP_POLL_S = 0.05  # s: how often a wait for a run looks at ``stop``
 BUDGET = 120  # runs per design by default, the coarse start, the refinements and the full model's check included
 MAX_BUDGET = 10_000
 LOG_SPAN = 20.0  # hi/lo from which a key is searched on a log scale
@@ -121,18 +122,36 @@ class _Stopped(Exception):
     pass
 
 
+def _stopper(stop) -> Callable[[float], None]:
+    """simulate's progress callback that ends the run once ``stop`` is set."""
+    def progress(_fraction: float) -> None:
+        if stop.is_set():
+            raise _Stopped
+    return progress
+
+
+def _result(future, stop) -> dict:
+    """The future's row, waited for in short looks so that ``stop`` (Ctrl-C in the command line) ends the wait."""
+    while not future.done():
+        if stop.is_set():
+            raise _Stopped
+        time.sleep(STOP_POLL_S)
+    return future.result()
+
+
 # ---- one run ---------------------------------------------------------------------------------------------
 
 def evaluate(base: Scenario, keys: tuple[str, ...], values: tuple[float, ...], objective, fidelity: str,
-             accuracy: float | None) -> dict:
+             accuracy: float | None, stop=None) -> dict:
     """Run one point and read the objective: {"objective", "model", "error_bound", "error"}. Never raises for a
-    bad point (a scenario the values make invalid, a failed run): its objective is NaN and ``error`` says why."""
+    bad point (a scenario the values make invalid, a failed run): its objective is NaN and ``error`` says why.
+    ``stop`` (in this process only): the run ends between compiled calls once it is set, raising _Stopped."""
     row = {"objective": math.nan, "model": "", "error_bound": math.nan, "error": "", "compute_s": 0.0}
     start = time.perf_counter()
     try:
         sc = point_scenario(base, dict(zip(keys, values, strict=True)))
         sc = sc.with_values(**{"run.fidelity": fidelity, "run.accuracy": accuracy})
-        tr = simulate(sc)
+        tr = simulate(sc, progress=None if stop is None else _stopper(stop))
         row["model"] = str(tr.info.get("model", ""))
         row["error_bound"] = float(tr.info.get("error_bound", math.nan))
         fn = METRICS[objective] if isinstance(objective, str) else objective
@@ -141,6 +160,8 @@ def evaluate(base: Scenario, keys: tuple[str, ...], values: tuple[float, ...], o
         if isinstance(exc.__context__, KeyboardInterrupt):
             raise KeyboardInterrupt from None
         row["error"] = f"{type(exc).__name__}: {exc}"
+    except _Stopped:
+        raise
     except Exception as exc:  # noqa: BLE001 - one bad point must not end a design
         row["error"] = f"{type(exc).__name__}: {exc}"
     row["compute_s"] = time.perf_counter() - start
@@ -379,9 +400,9 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
         try:
             futures = [(x, runner.submit(scale.values(x))) for x in grid[1:]]
             for x, f in futures:
-                e = record("start", scale.values(x), f.result())
+                e = record("start", scale.values(x), _result(f, stop))
                 start_points.append((score(goal, e.objective), x))
-        except KeyboardInterrupt:  # keep what ran; no refinement starts
+        except (KeyboardInterrupt, _Stopped):  # keep what ran; no refinement starts
             stop.set()
         # auto's choice costs a cost probe and an error estimate per run: where it chose the full model at every
         # start point, the refinements run the full model directly
@@ -427,8 +448,8 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
         if not stop.is_set():  # the full model states the optimum's value
             try:
                 check = record("check", best.values, evaluate(scenario, tuple(keys), best.values, objective, "full",
-                                                              None))
-            except KeyboardInterrupt:  # stopped during the check: the optimum found is kept, unchecked
+                                                              None, stop))
+            except (KeyboardInterrupt, _Stopped):  # stopped during the check: the optimum found is kept, unchecked
                 stop.set()
     finally:
         runner.close()
@@ -436,8 +457,8 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
     best_values = dict(zip(keys, best.values, strict=True))
     value = check.objective if check is not None else math.nan
     try:
-        refs = _references(scenario, keys, objective) if references and not stop.is_set() else {}
-    except KeyboardInterrupt:  # the papers' tunings are a comparison: stopping skips them, the design is kept
+        refs = _references(scenario, keys, objective, stop) if references and not stop.is_set() else {}
+    except (KeyboardInterrupt, _Stopped):  # the papers' tunings are a comparison: stopping skips them, keeps the rest
         stop.set()
         refs = {}
     method = (f"coarse start of {n_levels}^{len(keys)} = {len(grid)} points, then scipy.optimize.minimize "
@@ -472,7 +493,7 @@ def _refine(runner: _Runner, scale: _Scale, x0: np.ndarray, step: float, maxfev:
             return seen[values]
         if stop.is_set() or len(seen) >= maxfev:
             raise _Stopped
-        e = record(phase, values, runner.submit(values).result())
+        e = record(phase, values, _result(runner.submit(values), stop))
         seen[values] = score(goal, e.objective) / scale_f
         return seen[values]
 
@@ -489,7 +510,7 @@ def _refine(runner: _Runner, scale: _Scale, x0: np.ndarray, step: float, maxfev:
         pass
 
 
-def _references(scenario: Scenario, keys, objective) -> dict[str, tuple[dict[str, float], float]]:
+def _references(scenario: Scenario, keys, objective, stop) -> dict[str, tuple[dict[str, float], float]]:
     """The papers' tunings of this system (System.tunings), each run on the full model."""
     tunings = get_system(scenario.system).tunings
     out = {}
@@ -498,7 +519,7 @@ def _references(scenario: Scenario, keys, objective) -> dict[str, tuple[dict[str
     except ScenarioError:
         return out
     for label, values in named.items():
-        row = evaluate(scenario, tuple(values), tuple(values.values()), objective, "full", None)
+        row = evaluate(scenario, tuple(values), tuple(values.values()), objective, "full", None, stop)
         out[label] = (dict(values), row["objective"])
     return out
 
