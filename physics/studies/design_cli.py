@@ -82,13 +82,12 @@ def as_json(result: DesignResult) -> str:
 
 
 class _CtrlC:
-    """The design's ``stop`` and its SIGINT handler: the first Ctrl-C only sets a flag, which the design looks at
-    between runs and inside its own runs' progress callbacks; a second one raises KeyboardInterrupt (which can leave
-forked workers running: the way out of a hung run, not the way to stop). A
-    KeyboardInterrupt raised wherever the signal landed was lost inside fork's hooks (the design then ran on to its
-    budget) or escaped between two of the design's handlers (status 130, nothing kept): 4 of 8 runs of
-    tests/test_design.py's Ctrl-C test under load. A plain attribute, not a threading.Event: a handler that takes a
-    lock the interrupted code holds would deadlock."""
+    """The design's ``stop`` and its SIGINT handler. The first Ctrl-C only sets a flag, which the design looks at
+    between runs and in its own runs' progress callbacks: a KeyboardInterrupt raised wherever the signal lands can
+    be lost in fork's hooks while the pool starts (the design runs on) or escape between the design's handlers
+    (nothing kept). A second Ctrl-C raises KeyboardInterrupt, the way out of a run that does not end (forked workers
+    may outlive it). A plain attribute, not a threading.Event: a handler that took a lock the interrupted code holds
+    would deadlock."""
 
     def __init__(self):
         self.flag = False
