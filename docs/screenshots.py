@@ -42,7 +42,7 @@ class Shot:
     settings: tuple[tuple[str, str, object], ...] = ()  # (session attribute, engine action, value)
     warp: float | None = None
     folders: tuple[str, ...] = field(default=())  # slider folders to open (titles in app/engine/controls.py FOLDERS)
-    scroll_to: str = "Quasirigid explorer"  # panel text brought to the top of the panel (default: its top)
+    scroll_to: str = "Run"  # panel text brought to the top of the panel (default: the Run row, its top)
     file: str = ""  # the PNG's name in --out (default guide_<name>.png)
     size: tuple[int, int] | None = None  # the page's size for this shot (default VIEWPORT)
     wheel: int = 0  # px the panel is then scrolled with the mouse wheel (a chart's title cannot be scrolled to)
