@@ -228,6 +228,78 @@ def test_ctrl_c_ends_the_design_with_what_it_found(tmp_path):
     assert "optimum: pendulum.k = " in stdout and "not checked on the full model" in stdout
 
 
+def _children(pid: int) -> list[int]:
+    """The live processes whose parent is pid (from /proc: procps may not be installed)."""
+    kids = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:  # it ended while we looked
+            continue
+        if int(fields[1]) == pid and fields[0] != "Z":
+            kids.append(int(stat.parent.name))
+    return kids
+
+
+def _gone(pids: list[int], within_s: float) -> bool:
+    deadline = time.monotonic() + within_s
+    while time.monotonic() < deadline:
+        alive = [p for p in pids if Path(f"/proc/{p}/stat").exists()
+                 and Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"]
+        if not alive:
+            return True
+        time.sleep(0.1)
+    return False
+
+
+def _long_design(tmp_path) -> subprocess.Popen:
+    """A design whose first point (run here) takes seconds and whose next points, in the two workers, a minute or
+    more each (the run's own length is what varies), stopped at its first progress line."""
+    scenario = tmp_path / "pend.toml"
+    scenario.write_text(_pendulum().with_values(**{"run.t_end": 1000.0, "run.samples": 2001}).to_toml())
+    proc = subprocess.Popen([sys.executable, "-m", "physics", "design", str(scenario), "--vary", "run.t_end=1000:1e15",
+                             "--budget", "13", "--workers", "2"], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    line = ""
+    while "design: " not in line and time.monotonic() < deadline:
+        line = proc.stderr.readline()
+    assert "design: 1/13 runs" in line, line
+    deadline = time.monotonic() + 30
+    while len(_children(proc.pid)) < 2 and time.monotonic() < deadline:  # the pool starts at its first point
+        time.sleep(0.1)
+    return proc
+
+
+@pytest.mark.slow
+def test_ctrl_c_ends_the_workers_runs_rather_than_waiting_for_them(tmp_path):
+    """The workers' runs in flight take a minute or more; a stopped design keeps none of them, so it ends them
+    (it waited for each to finish, and a second Ctrl-C left the workers running)."""
+    proc = _long_design(tmp_path)
+    workers = _children(proc.pid)
+    assert len(workers) >= 2, workers  # the two workers (and a resource tracker, if one started)
+    os.kill(proc.pid, signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=20)  # the run in flight alone takes a minute or more
+    assert proc.returncode == 0 and "stopped: the best point so far follows" in stdout, stderr
+    assert _gone(workers, 10)
+
+
+@pytest.mark.slow
+def test_a_second_ctrl_c_leaves_no_worker_behind(tmp_path):
+    """The second Ctrl-C ends the design's process at once, without a word to the pool: its workers, idle or in a
+    run, end by themselves (idle ones waited for work forever, holding the terminal's output)."""
+    proc = _long_design(tmp_path)
+    workers = _children(proc.pid)
+    assert len(workers) >= 2, workers
+    os.kill(proc.pid, signal.SIGINT)
+    time.sleep(0.2)
+    os.kill(proc.pid, signal.SIGINT)
+    proc.wait(timeout=20)
+    assert proc.returncode in (130, -signal.SIGINT)  # interrupted; or, had the first ended it, killed by the second
+    assert _gone(workers, 10)
+    proc.communicate(timeout=10)  # the output's pipes close: nobody holds them
+
+
 def _blas_threads(tr, sc) -> float:
     from threadpoolctl import threadpool_info
 

@@ -54,6 +54,7 @@ MAX_KEYS = 4
 START_LEVELS = {1: 8, 2: 5, 3: 3, 4: 2}  # coarse points per key: 8, 25, 27, 16 runs
 STARTS = 2  # refinements, from the best distinct coarse points
 STOP_POLL_S = 0.05  # s: how often a wait for a run looks at ``stop``
+PARENT_POLL_S = 0.25  # s: how often a local worker looks whether the design's process still runs
 BUDGET = 120  # runs per design by default, the coarse start, the refinements and the full model's check included
 MAX_BUDGET = 10_000
 LOG_SPAN = 20.0  # hi/lo from which a key is searched on a log scale
@@ -195,11 +196,33 @@ def score(goal: str, value: float) -> float:
 
 # ---- executors -------------------------------------------------------------------------------------------
 
-def _quiet_worker() -> None:
-    """A worker leaves Ctrl-C to the design: it finishes its run, and the design keeps it. Its BLAS runs one
-    thread (sweep.one_blas_thread)."""
+_HALT = None  # in a local worker process: the design's halt, an Event shared with the design's process
+
+
+def _quiet_worker(halt) -> None:
+    """A worker leaves Ctrl-C to the design, which ends the workers' runs through ``halt`` (set when it stops or
+    ends) rather than a signal that could land anywhere. Its BLAS runs one thread (sweep.one_blas_thread)."""
+    global _HALT
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     one_blas_thread()
+    _HALT = halt
+    threading.Thread(target=_end_with_parent, args=(os.getppid(),), daemon=True).start()
+
+
+def _end_with_parent(parent: int) -> None:
+    """A worker's watch on the design's process. A second Ctrl-C ends that process at once (physics/__main__.py),
+    with no word to the pool; its idle workers would wait for work forever, each keeping the others' end of the
+    work queue open, and hold the terminal's output."""
+    while os.getppid() == parent:
+        time.sleep(PARENT_POLL_S)
+    os._exit(1)
+
+
+def _evaluate_in_worker(*args) -> dict:
+    """evaluate in a local worker, ended once the design sets its halt: a stopped design does not wait for runs
+    whose results it will not keep (a full run may take minutes), and a second Ctrl-C, which ends the design's
+    process at once, leaves no worker running on (they held the terminal's output until their runs ended)."""
+    return evaluate(*args, stop=_HALT)
 
 
 class _Runner:
@@ -231,20 +254,25 @@ class _Runner:
             else:
                 self.client, self.own = dask, False
         elif executor == "processes" and workers > 1:
-            self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=_mp_context(), initializer=_quiet_worker)
+            context = _mp_context()
+            self.halt = context.Event()
+            self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_quiet_worker,
+                                            initargs=(self.halt,))
 
     def submit(self, values: tuple[float, ...]) -> Future:
         if self.client is not None:
             return self.client.submit(evaluate, *self.args, values, *self.tail, pure=False)
         if self.pool is not None:
-            return self.pool.submit(evaluate, *self.args, values, *self.tail)
+            return self.pool.submit(_evaluate_in_worker, *self.args, values, *self.tail)
         f: Future = Future()
         with self.lock:  # in this process: one run at a time, whichever refinement asks
             f.set_result(evaluate(*self.args, values, *self.tail))
         return f
 
     def close(self) -> None:
+        """Ends the workers' runs still going (their results are not waited for) and the pool or the client."""
         if self.pool is not None:
+            self.halt.set()
             self.pool.shutdown(wait=True, cancel_futures=True)
         if self.client is not None and self.own:
             self.client.close()
