@@ -6,7 +6,8 @@ Trajectory; the step size carries over, so pieces cost what one long run costs a
 ``simulate`` to the integrator's tolerance. ``retune(scenario)`` swaps the parameters (and the model, when
 the fidelity changes) and carries the state over. The end of braking and integration faults (a non-finite state,
 step-size underflow, the gimbal singularity, and a problem too stiff for the explicit integrator: a call
-that runs out of steps while they are held at the stability limit) are recorded in ``status`` and
+that runs out of steps while they are held at the stability limit, or, first after a (re)start, one that would,
+seen after EARLY_STEPS) are recorded in ``status`` and
 ``message``, never raised: a viewer shows them and keeps the last good state. ``retune`` keeps the inertial
 angular momentum K and the attitude across a change (``physics.carry``) and reports the change of E.
 
@@ -21,6 +22,7 @@ a call, turning the stepper's ending statuses into ``status`` and ``message``.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 from contextlib import contextmanager
 
@@ -33,7 +35,16 @@ from physics.registry import get_system
 from physics.scenario.params import FIXED_STEP_METHODS
 from physics.scenario.scenario import Scenario
 from physics.stepping.stepper import BRAKED as BRAKED_STATUS
-from physics.stepping.stepper import STATUS_TEXT, STIFFNESS_CHECK_STEPS, Stepper, brake_and_medium, check_method
+from physics.stepping.stepper import (
+    MAX_STEPS,
+    STATUS_TEXT,
+    STIFF,
+    STIFFNESS_CHECK_STEPS,
+    Piece,
+    Stepper,
+    brake_and_medium,
+    check_method,
+)
 from physics.systems.carry import CannotCarry, carry_state
 from physics.systems.choice import Resolved, resolve
 from physics.systems.restart import ClosedOrigin, carry_to_closed
@@ -42,6 +53,10 @@ RUNNING, BRAKED, FAULT = "running", "braked", "fault"
 # bounds the wall time of one advance(); the rest waits for the next call. One stiffness check's worth, so that a
 # stiff problem is found by the call that runs out of steps
 MAX_STEPS_PER_CALL = STIFFNESS_CHECK_STEPS
+# A (re)started run's first call stops after this many steps to look whether the step is held at the stability
+# limit too far short of the call's end to get there within its budget: a stiff scene (pendulum.c_d = 1e12) was
+# found only after the call's 200 000 steps, 1.9 s of its tab for every restart and every fuzzed change
+EARLY_STEPS = 2_000
 
 
 class LiveRun:
@@ -68,6 +83,7 @@ class LiveRun:
         self.model, self.fidelity, self.reason = res.model, res.fidelity, res.reason
         self.t = 0.0
         self.stepper: Stepper | None = None  # None for a closed form
+        self._early = True  # the first call looks for stiffness early (EARLY_STEPS)
         self.nsteps = 0
         self.nfev = 0
         self.status = RUNNING
@@ -88,6 +104,7 @@ class LiveRun:
         self.y = np.asarray(self.model.initial_state(scenario, self.p), dtype=float).copy()
         _require_finite(scenario, self.y, "the initial state")
         self.stepper = Stepper(self.model, scenario, self.y, method=_method(scenario), p=self.p, kernels=pick)
+        self._early = True
         self.last = self._observe(np.array([0.0]), self.y[None, :])
         self._require_finite_row("theta, |K| and E at t = 0")
 
@@ -190,6 +207,7 @@ class LiveRun:
             G0 = self.stepper.G0 if self.stepper is not None else None
             self.stepper = Stepper(res.model, scenario, carried.y, method=_method(scenario), p=p, G0=G0,
                                    kernels=pick)
+        self._early = True  # new parameters may be stiff where the old were not
         self.origin = None
         self.model, self.fidelity = res.model, res.fidelity
         self.p = p
@@ -254,7 +272,7 @@ class LiveRun:
         t_out = np.concatenate([[self.t], self.t + dt * np.arange(1, samples + 1) / samples])
         # compiled, or its interpreted twin while the compiled kernels are being built (physics.kernels.build)
         self.stepper = copy.copy(self.stepper)  # never changed in place: see the class docstring
-        piece = self.stepper.step(self.y, t_out, MAX_STEPS_PER_CALL)
+        piece = self._step(t_out)
         self.nfev += piece.nfev
         self.nsteps += piece.nsteps
         if piece.status == BRAKED_STATUS:
@@ -272,6 +290,26 @@ class LiveRun:
         self.y = piece.rows_y[len(tr) - 1].copy()
         self.last = tr.slice(len(tr) - 1)
         return tr
+
+    def _step(self, t_out: np.ndarray) -> Piece:
+        """One call's piece: the stepper's call, or, first after a (re)start, EARLY_STEPS steps, the early look
+        for stiffness, and the rest of the call's budget."""
+        if not self._early or self.stepper.method != "auto":
+            return self.stepper.step(self.y, t_out, MAX_STEPS_PER_CALL)
+        self._early = False
+        first = self.stepper.step(self.y, t_out, EARLY_STEPS)
+        if first.status != MAX_STEPS:
+            return first
+        left = MAX_STEPS_PER_CALL - first.nsteps
+        why = self.stepper.stiff_short_of(first.t_last, first.y_last, first.nsteps, first.t_last - float(t_out[0]),
+                                          float(t_out[-1]), left)
+        if why:
+            return dataclasses.replace(first, status=STIFF, what=why)
+        reached = first.n - 1  # the output rows; a last accepted state beyond them is where the rest starts
+        rest = self.stepper.step(first.y_last, np.concatenate([[first.t_last], t_out[first.n:]]), left)
+        return dataclasses.replace(rest, nfev=first.nfev + rest.nfev, nsteps=first.nsteps + rest.nsteps,
+                                   rows_t=np.concatenate([first.rows_t[:reached], rest.rows_t]),
+                                   rows_y=np.vstack([first.rows_y[:reached], rest.rows_y]))
 
     def _cut_at_nonfinite(self, tr: Trajectory, after: float = math.inf) -> Trajectory:
         """``tr`` up to its first row with a non-finite theta, |K|, E, omega or attitude (before ``after``),

@@ -294,10 +294,23 @@ class Stepper:
         h_lambda = self.h * spectral_radius(self.rhs, t_last, y_last, self.p)
         if h_lambda <= STIFF_H_LAMBDA:
             return status, ""
+        return STIFF, self._stiff_text(steps, t_last - since, h_lambda)
+
+    def stiff_short_of(self, t_last: float, y_last: np.ndarray, steps: int, span: float, t_goal: float,
+                       steps_left: int) -> str:
+        """The STIFF text when, after ``steps`` steps covering ``span`` s, the step is held at the stability
+        limit and t_goal lies more than ``steps_left`` such steps beyond ``t_last``: the call would run out of
+        steps there, and the check at its end would say so. '' otherwise (the usual check still comes)."""
+        if not self.h > 0 or not (t_goal - t_last) / self.h > steps_left:
+            return ""
+        h_lambda = self.h * spectral_radius(self.rhs, t_last, y_last, self.p)
+        return self._stiff_text(steps, span, h_lambda) if h_lambda > STIFF_H_LAMBDA else ""
+
+    def _stiff_text(self, steps: int, span: float, h_lambda: float) -> str:
         advice = (self.model.stiff_advice(self.sc) if self.model.stiff_advice is not None else
                   "the internal part's fastest rate sets the step: slow it, or use a cheaper fidelity")
-        return STIFF, (f"too stiff for the explicit integrator (DOP853): {steps} steps covered {t_last - since:.3g} "
-                       f"s at its stability limit (h |lambda| = {h_lambda:.2g}); {advice}")
+        return (f"too stiff for the explicit integrator (DOP853): {steps} steps covered {span:.3g} s at its "
+                f"stability limit (h |lambda| = {h_lambda:.2g}); {advice}")
 
     # ---- scipy's methods: whole runs (simulate only) ---------------------------------------------------
     def solve_ivp(self, y0, t: np.ndarray, method: str, max_evals: int, progress=None):
