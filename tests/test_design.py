@@ -226,6 +226,10 @@ def test_ctrl_c_ends_the_design_with_what_it_found(tmp_path):
         rows = list(csv.DictReader(fh))
     assert 1 <= len(rows) < 25 and all(r["phase"] == "start" for r in rows)
     assert "optimum: pendulum.k = " in stdout and "not checked on the full model" in stdout
+    # the method says what ran: the start's share, no refinement (it said "from the best 2" before)
+    method = next(line for line in stdout.splitlines() if line.startswith("method: "))
+    assert f"= 25 points ({len(rows)} ran before the stop), on pendulum.k" in method, method
+    assert "Nelder-Mead" not in method and "at every start point" not in method
 
 
 def _children(pid: int) -> list[int]:

@@ -489,12 +489,17 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
     except (KeyboardInterrupt, _Stopped):  # the papers' tunings are a comparison: stopping skips them, keeps the rest
         stop.set()
         refs = {}
-    method = (f"coarse start of {n_levels}^{len(keys)} = {len(grid)} points, then scipy.optimize.minimize "
-              f"(Nelder-Mead, bounded) from the best {len(threads)}, on "
-              + ", ".join(f"{k} ({'log' if lg else 'linear'})" for k, lg in zip(keys, scale.log, strict=True))
+    # a stopped design says what ran, not what a whole one would have: refinements that took no step, and auto's
+    # choice read off a partial start, are not named
+    started = len(paths.get("start", []))
+    refined = sum(1 for j in range(len(threads)) if paths.get(f"refine {j + 1}"))
+    method = (f"coarse start of {n_levels}^{len(keys)} = {len(grid)} points"
+              + (f" ({started} ran before the stop)" if started < len(grid) else "")
+              + (f", then scipy.optimize.minimize (Nelder-Mead, bounded) from the best {refined}" if refined else "")
+              + ", on " + ", ".join(f"{k} ({'log' if lg else 'linear'})" for k, lg in zip(keys, scale.log, strict=True))
               + f"; points on fidelity {fidelity}" + (f" at accuracy {accuracy:.3g} rad" if accuracy else "")
-              + ("; auto ran the full model at every start point, so the refinements ran it directly" if all_full
-                 else "")
+              + ("; auto ran the full model at every start point, so the refinements ran it directly"
+                 if all_full and refined and started == len(grid) else "")
               + ("; the optimum's value from the full model" if check is not None else "; stopped before the "
                  "full model's check"))
     return DesignResult(base=scenario, keys=tuple(keys), bounds=tuple(bounds), objective=name, unit=unit, goal=goal,
