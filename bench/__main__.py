@@ -27,6 +27,8 @@ STUDIES = {
     "design": ("design", "a damper's design against the 20 x 20 grid over the same bounds: runs, wall time, optimum"),
     "pendulum-hardening": ("pendulum_hardening", "the pendulum's averaged model with a detuning that follows the bob's "
                                                  "swing, against the full model (issue 23)"),
+    "pendulum-ceiling": ("pendulum_ceiling", "the most of the oracle's cheap runs auto could take with the pendulum's "
+                                             "estimate as built, its safety factors fitted (issue 23)"),
     "explorer-startup": ("explorer_startup", "time from `python -m app` to the scene drawn in chromium (--cold: "
                                              "first start)"),
 }

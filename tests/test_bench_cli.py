@@ -40,6 +40,7 @@ OPTIONS = {
     "challenge": ["--starts", "--reactions", "--out", "--img"],
     "design": ["--n", "--workers", "--out", "--img"],
     "pendulum-hardening": ["--study", "--limit", "--out", "--img"],
+    "pendulum-ceiling": ["--study", "--out", "--img"],
     "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
 }
 

@@ -1,0 +1,184 @@
+"""``python -m bench pendulum-ceiling``: how much of the oracle's cheap runs could auto take with the spherical
+pendulum's estimate as it is built, whatever its safety factors? A measurement for issue 23's open point, not a
+model of the product.
+
+The estimate (physics/systems/pendulum/accuracy.py) is SAFETY_LINEAR (linear_gap + polhode_gap) + SAFETY
+max(detuning_gap, rate_gap). Here its parts are computed for every spherical-pendulum row with an actual error in
+the fidelity studies' CSVs (the averaged model's error against the full model, already measured there), and the
+two nonlinear parts are given their own factors, s_d and s_r, each from 1 to 2.5: the pair that lets auto take
+the most cheap runs while no row's actual error exceeds its estimate is the ceiling of this form of estimate, fitted
+with no margin on the very rows it is scored on. If the ceiling is below issue 23's 80 %, no choice of factors
+meets it: the parts themselves must come nearer the actual error (or the model nearer the full one).
+
+Writes bench/results/pendulum_ceiling.csv (+ .meta.json: machine, command, summary) and
+docs/img/pendulum_ceiling.png (the share auto takes against one common factor, and the best pair).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import sys
+import time
+import warnings
+from datetime import UTC, datetime
+from pathlib import Path
+
+import numpy as np
+
+import physics
+from bench.machine import machine
+from physics.systems.pendulum.accuracy import SAFETY, SAFETY_LINEAR, scenario_parts
+
+ROOT = Path(__file__).resolve().parent.parent
+RESULTS = ROOT / "bench" / "results"
+ACCURACIES = (1e-2, 1e-3)
+FACTORS = np.round(np.arange(1.0, 2.5001, 0.05), 2)
+COLUMNS = ("study", "index", "actual", "linear", "detuning", "rate", "estimate")
+
+
+def study_rows(paths: list[Path]) -> list[dict]:
+    """The averaged spherical-pendulum rows with a measured error, each scenario once."""
+    seen, rows = set(), []
+    for path in paths:
+        with open(path, newline="") as f:
+            for r in csv.DictReader(f):
+                if (r.get("system") != "spherical_pendulum" or r.get("fidelity") != "averaged"
+                        or r.get("status") != "ok" or not r.get("actual_error") or r["scenario"] in seen):
+                    continue
+                seen.add(r["scenario"])
+                rows.append(dict(study=path.name, index=r["index"], actual=float(r["actual_error"]),
+                                 scenario=r["scenario"]))
+    return rows
+
+
+def measure(row: dict) -> dict | None:
+    """The row with its estimate's parts; None where the estimate has none (outside its conditions' reach)."""
+    q = scenario_parts(physics.Scenario.from_dict(json.loads(row["scenario"])))
+    parts = (q.linear_gap + q.polhode_gap, q.detuning_gap, q.rate_gap)
+    if not all(map(math.isfinite, parts)):
+        return None
+    return dict(study=row["study"], index=row["index"], actual=row["actual"], linear=parts[0], detuning=parts[1],
+                rate=parts[2], estimate=q.bound)
+
+
+def shares(actual: np.ndarray, estimate: np.ndarray) -> dict:
+    """Per accuracy: the oracle's cheap runs (actual <= accuracy), auto's among them, and auto's share."""
+    out = {}
+    for acc in ACCURACIES:
+        oracle = actual <= acc
+        auto = oracle & (estimate <= acc)
+        out[f"{acc:g}"] = dict(oracle=int(oracle.sum()), auto=int(auto.sum()),
+                               share=float(auto.sum() / oracle.sum()) if oracle.any() else math.nan)
+    return out
+
+
+def summary(rows: list[dict]) -> dict:
+    actual = np.array([r["actual"] for r in rows])
+    lin = SAFETY_LINEAR * np.array([r["linear"] for r in rows])
+    det, rate = np.array([r["detuning"] for r in rows]), np.array([r["rate"] for r in rows])
+    product = np.array([r["estimate"] for r in rows])
+
+    def fitted(sd: float, sr: float) -> np.ndarray:
+        return lin + np.maximum(sd * det, sr * rate)
+
+    best = None
+    for sd in FACTORS:
+        for sr in FACTORS:
+            est = fitted(sd, sr)
+            if np.any(actual > est):
+                continue
+            s = shares(actual, est)
+            total = sum(v["share"] for v in s.values())
+            if best is None or total > best[0]:
+                best = (total, float(sd), float(sr), s, float(np.max(actual / est)))
+    common = []
+    for f in FACTORS:
+        est = fitted(f, f)
+        common.append(dict(factor=float(f), violations=int(np.sum(actual > est)), **{
+            f"share_{k}": v["share"] for k, v in shares(actual, est).items()}))
+    out = dict(scenarios=len(rows), product=dict(factor=SAFETY, violations=int(np.sum(actual > product)),
+                                                   worst=float(np.max(actual / product)), **shares(actual, product)),
+               common=common)
+    if best is not None:
+        out["ceiling"] = dict(s_detuning=best[1], s_rate=best[2], worst=best[4], **best[3])
+    return out
+
+
+def chart(result: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    f = [c["factor"] for c in result["common"]]
+    for acc, style in zip(ACCURACIES, ("-", "--"), strict=True):
+        key = f"share_{acc:g}"
+        ax.plot(f, [c[key] for c in result["common"]], style, color="C0", label=f"one factor on both, {acc:g} rad")
+        if "ceiling" in result:
+            ax.axhline(result["ceiling"][f"{acc:g}"]["share"], color="C1", ls=style, lw=0.9,
+                       label=f"best pair with no violation, {acc:g} rad")
+    bad = [c["factor"] for c in result["common"] if c["violations"]]
+    if bad:
+        ax.axvspan(min(f), max(bad), color="0.85", label="a row's actual error above its estimate")
+    ax.axhline(0.8, color="C3", lw=0.8, label="issue 23's goal, 80 %")
+    ax.axvline(result["product"]["factor"], color="0.4", lw=0.8, ls=":", label="the product's SAFETY")
+    ax.set(xlabel="safety factor on the nonlinear parts", ylabel="auto's share of the oracle's cheap runs",
+           ylim=(0, 1), title=f"Spherical pendulum's estimate: its ceiling ({result['scenarios']} scenarios)")
+    ax.legend(fontsize=7, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m bench pendulum-ceiling", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--study", type=Path, nargs="*", default=None,
+                    help="fidelity studies' CSVs (default: every bench/results/fidelity*.csv)")
+    ap.add_argument("--out", type=Path, default=RESULTS)
+    ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img")
+    args = ap.parse_args(argv)
+    paths = args.study if args.study else sorted(RESULTS.glob("fidelity*.csv"))
+    missing = [str(p) for p in paths if not p.is_file()]
+    if missing:
+        ap.error(f"--study {' '.join(missing)}: no such file (a CSV written by python -m bench fidelity)")
+    picked = study_rows(paths)
+    if not picked:
+        ap.error("no averaged spherical-pendulum row with a measured error in " + ", ".join(map(str, paths)))
+    t0 = time.perf_counter()
+    rows = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", physics.ValidityWarning)
+        for n, r in enumerate(picked, 1):
+            m = measure(r)
+            if m is not None:
+                rows.append(m)
+            print(f"\r{n}/{len(picked)} scenarios", end="", file=sys.stderr, flush=True)
+    print(file=sys.stderr)
+    result = summary(rows)
+    args.out.mkdir(parents=True, exist_ok=True)
+    args.img.mkdir(parents=True, exist_ok=True)
+    with open(args.out / "pendulum_ceiling.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, COLUMNS)
+        w.writeheader()
+        w.writerows(rows)
+    meta = dict(command=" ".join(["python -m bench pendulum-ceiling", *(sys.argv[1:] if argv is None else argv)]),
+                studies=[p.name for p in paths], date=datetime.now(UTC).isoformat(timespec="seconds"),
+                wall_s=time.perf_counter() - t0, machine=machine(), summary=result)
+    (args.out / "pendulum_ceiling.meta.json").write_text(json.dumps(meta, indent=2) + "\n")
+    chart(result, args.img / "pendulum_ceiling.png")
+    p = result["product"]
+    print(f"{len(rows)} scenarios with an estimate (of {len(picked)}); the product's (SAFETY {SAFETY:g}): "
+          + ", ".join(f"{k} rad {v['auto']}/{v['oracle']} = {v['share']:.0%}" for k, v in p.items()
+                      if isinstance(v, dict)) + f", {p['violations']} violations")
+    c = result.get("ceiling")
+    if c is None:
+        print("no pair of factors from 1 to 2.5 leaves every actual error within its estimate")
+    else:
+        print(f"ceiling (s_detuning {c['s_detuning']:g}, s_rate {c['s_rate']:g}, worst actual/estimate "
+              f"{c['worst']:.2f}): " + ", ".join(f"{k} rad {v['auto']}/{v['oracle']} = {v['share']:.0%}"
+                                                  for k, v in c.items() if isinstance(v, dict)))
+    return 0
