@@ -7,20 +7,34 @@ from __future__ import annotations
 import re
 
 import pytest
-from test_app_browser import browser, choose, click, number_box, url, wait_until  # noqa: F401
-from test_app_browser_sweep import box, page, paragraph, type_into  # noqa: F401 - page: the sweep's 1400x900 tab
+from test_app_browser import UI_TIMEOUT, browser, choose, click, number_box, url, wait_until  # noqa: F401
+from test_app_browser_sweep import box, paragraph
 
 pytestmark = pytest.mark.browser
 DESIGN_TIMEOUT = 300_000  # ms: twenty runs of the default scene and the full model's check, on a shared machine
-VIEWPORT_HEIGHT = 900  # the sweep's page: 1400x900
+VIEWPORT = {"width": 1400, "height": 900}
 
 
-def set_runs(pg, n: int) -> None:
-    type_into(pg, "runs at most", str(n))
-    wait_until(pg, lambda: box(pg, "runs at most").input_value() == str(n), f"runs at most = {n}")
+@pytest.fixture(scope="module")
+def page(browser, url):  # noqa: F811 - the imported fixtures are this one's arguments
+    pg = browser.new_page(viewport=VIEWPORT)
+    pg.set_default_timeout(UI_TIMEOUT)
+    pg.goto(url)
+    pg.wait_for_selector("canvas")
+    pg.get_by_text(re.compile(r"Quasirigid explorer · ")).first.wait_for()  # the session's status line: connected
+    yield pg
+    pg.close()
 
 
-def test_a_design_shows_its_optimum_in_its_window_and_the_scene_takes_it(page, tmp_path):  # noqa: F811
+def set_runs(page, n: int) -> None:
+    b = box(page, "runs at most")
+    b.click()
+    b.fill(str(n))
+    b.press("Tab")
+    wait_until(page, lambda: b.input_value() == str(n), f"runs at most = {n}")
+
+
+def test_a_design_shows_its_optimum_in_its_window_and_the_scene_takes_it(page, tmp_path):
     page.get_by_text("Design", exact=True).first.click()
     click(page, "Open the design panel")
     page.get_by_role("button", name="Run design", exact=True).wait_for()
@@ -39,7 +53,7 @@ def test_a_design_shows_its_optimum_in_its_window_and_the_scene_takes_it(page, t
     assert re.search(r"decay_time = [-0-9.e+]+ s from the full model", optimum), optimum  # checked, not stopped
     result = page.get_by_text(re.compile(r"^Optimum")).first
     bb = result.bounding_box()
-    assert result.is_visible() and 0 <= bb["y"] and bb["y"] + bb["height"] <= VIEWPORT_HEIGHT, bb
+    assert result.is_visible() and 0 <= bb["y"] and bb["y"] + bb["height"] <= VIEWPORT["height"], bb
     page.screenshot(path=str(tmp_path / "design.png"))
     click(page, "Take the optimum")
     took = wait_until(page, lambda: paragraph(page, r"^Took the optimum"), "the optimum taken")
@@ -48,13 +62,13 @@ def test_a_design_shows_its_optimum_in_its_window_and_the_scene_takes_it(page, t
                <= 1e-3 * abs(value), f"the {label} box at the optimum {value}")
 
 
-def _slider_label(pg, label: str) -> str:
+def _slider_label(page, label: str) -> str:
     """The slider's full label ("m (kg)") for the short name the summary uses ("m")."""
-    texts = pg.locator("label").all_inner_texts()
+    texts = page.locator("label").all_inner_texts()
     return next(t for t in texts if t == label or t.startswith(label + " ("))
 
 
-def test_stop_design_ends_a_long_design_with_what_it_found(page):  # noqa: F811
+def test_stop_design_ends_a_long_design_with_what_it_found(page):
     """Three sliders: a coarse start of 27 runs and refinements, a minute or more (one slider's design converges
     in a few dozen runs, and ended before Stop could be pressed)."""
     choose(page, "second parameter", "mass.chi")
