@@ -104,7 +104,6 @@ class LiveRun:
         self.y = np.asarray(self.model.initial_state(scenario, self.p), dtype=float).copy()
         _require_finite(scenario, self.y, "the initial state")
         self.stepper = Stepper(self.model, scenario, self.y, method=_method(scenario), p=self.p, kernels=pick)
-        self._early = True
         self.last = self._observe(np.array([0.0]), self.y[None, :])
         self._require_finite_row("theta, |K| and E at t = 0")
 

@@ -291,10 +291,8 @@ class Stepper:
         stability limit, else (status, "")."""
         steps, since = self.unchecked, self._window_t
         self.unchecked, self._window_t = 0, t_last
-        h_lambda = self.h * spectral_radius(self.rhs, t_last, y_last, self.p)
-        if h_lambda <= STIFF_H_LAMBDA:
-            return status, ""
-        return STIFF, self._stiff_text(steps, t_last - since, h_lambda)
+        why = self._held(t_last, y_last, steps, t_last - since)
+        return (STIFF, why) if why else (status, "")
 
     def stiff_short_of(self, t_last: float, y_last: np.ndarray, steps: int, span: float, t_goal: float,
                        steps_left: int) -> str:
@@ -303,10 +301,14 @@ class Stepper:
         steps there, and the check at its end would say so. '' otherwise (the usual check still comes)."""
         if not self.h > 0 or not (t_goal - t_last) / self.h > steps_left:
             return ""
-        h_lambda = self.h * spectral_radius(self.rhs, t_last, y_last, self.p)
-        return self._stiff_text(steps, span, h_lambda) if h_lambda > STIFF_H_LAMBDA else ""
+        return self._held(t_last, y_last, steps, span)
 
-    def _stiff_text(self, steps: int, span: float, h_lambda: float) -> str:
+    def _held(self, t_last: float, y_last: np.ndarray, steps: int, span: float) -> str:
+        """The STIFF text when the step at (t_last, y_last) is held at the stability limit (h |lambda| >
+        STIFF_H_LAMBDA), naming the ``steps`` steps that covered ``span`` s; '' when it is held by accuracy."""
+        h_lambda = self.h * spectral_radius(self.rhs, t_last, y_last, self.p)
+        if h_lambda <= STIFF_H_LAMBDA:
+            return ""
         advice = (self.model.stiff_advice(self.sc) if self.model.stiff_advice is not None else
                   "the internal part's fastest rate sets the step: slow it, or use a cheaper fidelity")
         return (f"too stiff for the explicit integrator (DOP853): {steps} steps covered {span:.3g} s at its "
