@@ -85,9 +85,9 @@ class _CtrlC:
     """The design's ``stop`` and its SIGINT handler. The first Ctrl-C only sets a flag, which the design looks at
     between runs and in its own runs' progress callbacks: a KeyboardInterrupt raised wherever the signal lands can
     be lost in fork's hooks while the pool starts (the design runs on) or escape between the design's handlers
-    (nothing kept). A second Ctrl-C raises KeyboardInterrupt, the way out of a run that does not end (forked workers
-    may outlive it). A plain attribute, not a threading.Event: a handler that took a lock the interrupted code holds
-    would deadlock."""
+    (nothing kept). A second Ctrl-C raises KeyboardInterrupt, the way out of a run that does not end (the workers
+    leave when the design's process does: design._end_with_parent). A plain attribute, not a threading.Event: a
+    handler that took a lock the interrupted code holds would deadlock."""
 
     def __init__(self):
         self.flag = False
