@@ -232,25 +232,25 @@ def test_ctrl_c_ends_the_design_with_what_it_found(tmp_path):
     assert "Nelder-Mead" not in method and "at every start point" not in method
 
 
+def _stat(pid: int) -> tuple[str, int] | None:
+    """(state, parent) of a live process from /proc (procps may not be installed); None once it has ended or is a
+    zombie."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return None
+    return None if fields[0] == "Z" else (fields[0], int(fields[1]))
+
+
 def _children(pid: int) -> list[int]:
-    """The live processes whose parent is pid (from /proc: procps may not be installed)."""
-    kids = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-        except OSError:  # it ended while we looked
-            continue
-        if int(fields[1]) == pid and fields[0] != "Z":
-            kids.append(int(stat.parent.name))
-    return kids
+    """The live processes whose parent is pid."""
+    return [int(p.name) for p in Path("/proc").glob("[0-9]*") if (_stat(int(p.name)) or ("", 0))[1] == pid]
 
 
 def _gone(pids: list[int], within_s: float) -> bool:
     deadline = time.monotonic() + within_s
     while time.monotonic() < deadline:
-        alive = [p for p in pids if Path(f"/proc/{p}/stat").exists()
-                 and Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"]
-        if not alive:
+        if all(_stat(p) is None for p in pids):
             return True
         time.sleep(0.1)
     return False
