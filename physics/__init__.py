@@ -40,7 +40,7 @@ from physics.stepping.live import LiveRun
 from physics.stepping.simulate import simulate
 from physics.stepping.stepper import brake_and_medium
 from physics.stepping.warm import start as build_kernels
-from physics.studies.design import OBJECTIVES, DesignResult, Evaluation, design
+from physics.studies.design import OBJECTIVES, DesignResult, DesignStopped, Evaluation, design
 from physics.studies.metrics import METRICS, Metric
 from physics.studies.sweep import SweepTable, axis_values, check_point, numeric_keys, point_scenario, resolve_key, sweep
 from physics.studies.work_precision import Row as WorkPrecisionRow
@@ -62,7 +62,7 @@ __all__ = [
     "Cavity", "Coefficients", "Control", "IntegrationFault", "Initial", "LiveRun", "Mass", "Medium", "Model",
     "METRICS", "Metric", "REGISTRY", "Run", "Scenario", "ScenarioError", "SweepTable", "Trajectory", "ValidityWarning",
     "averaged_conditions", "axis_values", "check_point", "numeric_keys", "point_scenario", "resolve_key", "sweep",
-    "OBJECTIVES", "DesignResult", "Evaluation", "design",
+    "OBJECTIVES", "DesignResult", "DesignStopped", "Evaluation", "design",
     "DEFAULT_ACCURACY", "PIVOTS", "carry_state", "choose_fidelity", "closed", "resolved_stiffness", "coefficients",
     "default_scenario", "derived", "end_state", "EndLocked", "EndState", "NoEndState",
     "get_model", "get_system", "initial_G", "load_builtin", "Param", "register_model", "register_system",

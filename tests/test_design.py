@@ -232,6 +232,30 @@ def test_ctrl_c_ends_the_design_with_what_it_found(tmp_path):
     assert "Nelder-Mead" not in method and "at every start point" not in method
 
 
+def test_stop_during_the_first_point_ends_the_design_at_once():
+    """The first point runs in the design's own process, before the pool. Its run here takes minutes (t_end about
+    4e6 s on the full model): Stop (the Design window's button, a first Ctrl-C) did nothing until it ended. Now the
+    run ends at its next progress callback, and with no point to keep the design says so."""
+    sc = _pendulum().with_values(**{"run.samples": 201})
+    stop, out = threading.Event(), {}
+
+    def run():
+        try:
+            out["result"] = physics.design(sc, {"run.t_end": (3e6, 3e7)}, "decay_time", fidelity="full", stop=stop,
+                                           workers=1, references=False)
+        except Exception as exc:  # noqa: BLE001 - what the design raised is the test's subject
+            out["error"] = exc
+
+    worker = threading.Thread(target=run, daemon=True)
+    worker.start()
+    time.sleep(1.0)
+    stop.set()
+    worker.join(30)
+    assert not worker.is_alive(), "the design went on after stop for 30 s"
+    assert isinstance(out.get("error"), physics.DesignStopped), out
+    assert "no run had ended when it was stopped" in str(out["error"])
+
+
 def _stat(pid: int) -> tuple[str, int] | None:
     """(state, parent) of a live process from /proc (procps may not be installed); None once it has ended or is a
     zombie."""

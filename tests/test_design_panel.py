@@ -126,3 +126,22 @@ def test_the_result_goes_stale_when_the_scene_changes():
     scenes.append(sc.with_values(**{"pendulum.m": 4.0}))
     panel.scene_changed()
     assert panel.stale and "Stale" in panel.result_md.content
+
+
+def test_stop_during_the_first_run_says_there_is_nothing_to_show():
+    """A scene whose first run takes most of a minute (t_end 4e5 s: too long for the averaged model's attitude
+    budget, so auto runs the full model): Stop ends it, the panel says why no optimum came and the buttons are
+    ready for the next design (Stop waited for the whole first run before)."""
+    sc = _scene().with_values(**{"run.t_end": 4e5})
+    panel = DesignPanel(FakeGui(), lambda: sc, lambda _: None, executor="serial")
+    key1 = panel.slots[0][0]
+    key1.value = "pendulum.k"
+    key1.fire()
+    panel.run_btn.fire()
+    assert panel.thread is not None and not panel.stop_btn.disabled
+    panel.thread.join(timeout=1.0)
+    panel.stop_btn.fire()
+    panel.thread.join(timeout=30)
+    assert not panel.thread.is_alive(), "the design went on after Stop for 30 s"
+    assert "Stopped before the first run ended: there is no optimum to show" in panel.status.content
+    assert panel.result is None and not panel.run_btn.disabled and panel.stop_btn.disabled

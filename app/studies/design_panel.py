@@ -235,6 +235,8 @@ class DesignPanel:
             result = physics.design(sc, vary, objective, budget=runs, workers=self.workers, executor=self.executor,
                                     progress=self._progress, stop=self.stop)
             self.show(result)
+        except physics.DesignStopped:
+            self._say("Stopped before the first run ended: there is no optimum to show. **Run design** starts again.")
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
             self._say(f"**Design failed:** {exc}")
         finally:

@@ -123,6 +123,14 @@ class _Stopped(Exception):
     pass
 
 
+class DesignStopped(ScenarioError):
+    """The design was stopped before its first run ended: no point ran, so there is no optimum to keep."""
+
+    def __init__(self):
+        super().__init__("design", "(stopped)", "no run had ended when it was stopped, so there is no optimum to show; "
+                         "start it again and let its first run finish")
+
+
 def _stopper(stop) -> Callable[[float], None]:
     """simulate's progress callback that ends the run once ``stop`` is set."""
     def progress(_fraction: float) -> None:
@@ -228,8 +236,9 @@ def _evaluate_in_worker(*args) -> dict:
 class _Runner:
     """submit(values, phase) -> Future of an Evaluation, on local processes, in this process, or on Dask."""
 
-    def __init__(self, base, keys, objective, fidelity, accuracy, executor, workers, dask):
+    def __init__(self, base, keys, objective, fidelity, accuracy, executor, workers, dask, stop):
         self.args = (base, keys)
+        self.stop = stop  # in this process a run ends once it is set (raising _Stopped from submit)
         self.tail = (objective, fidelity, accuracy)
         self.pool = self.client = self.cluster = None
         self.lock = threading.Lock()
@@ -266,7 +275,7 @@ class _Runner:
             return self.pool.submit(_evaluate_in_worker, *self.args, values, *self.tail)
         f: Future = Future()
         with self.lock:  # in this process: one run at a time, whichever refinement asks
-            f.set_result(evaluate(*self.args, values, *self.tail))
+            f.set_result(evaluate(*self.args, values, *self.tail, self.stop))
         return f
 
     def close(self) -> None:
@@ -407,9 +416,13 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
 
     levels = [(i + 0.5) / n_levels for i in range(n_levels)]
     grid = [np.array(x) for x in itertools.product(levels, repeat=len(keys))]
-    # the first point runs here: it loads the compiled code once, and forked workers inherit it (as sweeps do)
-    first = evaluate(scenario, tuple(keys), scale.values(grid[0]), objective, fidelity, accuracy)
-    runner = _Runner(scenario, tuple(keys), objective, fidelity, accuracy, executor, workers, dask)
+    # the first point runs here: it loads the compiled code once, and forked workers inherit it (as sweeps do). It
+    # too ends once stop is set: a first point of minutes left Stop (and a first Ctrl-C) doing nothing until it ended
+    try:
+        first = evaluate(scenario, tuple(keys), scale.values(grid[0]), objective, fidelity, accuracy, stop)
+    except _Stopped:
+        raise DesignStopped() from None
+    runner = _Runner(scenario, tuple(keys), objective, fidelity, accuracy, executor, workers, dask, stop)
 
     def record(phase: str, values, row) -> Evaluation:
         e = Evaluation(values=values, objective=row["objective"], model=row["model"],

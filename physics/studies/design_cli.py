@@ -15,7 +15,7 @@ from pathlib import Path
 
 from physics.core.errors import ScenarioError
 from physics.scenario.scenario import Scenario
-from physics.studies.design import OBJECTIVES, DesignResult, Evaluation, design, score, unit, write_csv
+from physics.studies.design import OBJECTIVES, DesignResult, DesignStopped, Evaluation, design, score, unit, write_csv
 
 
 def parse_vary(items: list[str]) -> dict[str, str]:
@@ -115,6 +115,9 @@ def run_design(sc: Scenario, args) -> int:
     try:
         result = design(sc, vary, args.objective, budget=args.budget, accuracy=args.accuracy, workers=args.workers,
                         dask=args.dask, progress=progress, stop=stop)
+    except DesignStopped as exc:  # Ctrl-C before any run ended: interrupted, with nothing to print
+        print(f"design stopped: {exc.allowed}", file=sys.stderr)
+        return 130
     finally:
         if installed:
             signal.signal(signal.SIGINT, previous)
