@@ -127,7 +127,10 @@ def test_every_preset_loads_and_runs(name):
     if sc.pendulum is not None or sc.plane_pendulums:
         assert len(fr.parts("bob")) == max(1, len(sc.plane_pendulums))
     assert e.readouts()["fidelity"].startswith(e.run.fidelity)
-    assert e.badge(block=True).startswith("**auto")
+    badge = e.badge(block=True)  # auto's choice, or beside the scene's own: what auto would run
+    chosen = sc.run.fidelity
+    head = "**auto → " if chosen == "auto" else f"**{chosen}** as chosen; auto would run **"
+    assert badge.startswith(head), badge
 
 
 def test_the_presets_the_issue_asks_for():
@@ -288,7 +291,8 @@ def test_the_polhode_lies_on_the_drawn_inertia_ellipsoid():
 
 def test_overlays_and_badge_for_the_pendulum_systems():
     e = Engine(preset="Spherical pendulum damper, resonant")
-    assert ": not here (" in e.badge(block=True) and "auto → full" in e.badge(block=True)  # averaged conditions
+    badge = e.badge(block=True)
+    assert ": not here (" in badge and ("auto → full" in badge or "auto would run **full**" in badge)  # conditions
     e.request("overlay", "averaged")
     ticks(e, 2)
     assert e.wait_overlay() and e.error == ""
@@ -375,4 +379,4 @@ def test_the_badge_is_worked_out_in_the_background():
     deadline = time.perf_counter() + 60
     while "working out" in e.badge() and time.perf_counter() < deadline:
         time.sleep(0.02)
-    assert e.badge() == e.badge(block=True) and e.badge().startswith("**auto")
+    assert e.badge() == e.badge(block=True) and "auto" in e.badge().split(" · ")[0]

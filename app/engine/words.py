@@ -65,10 +65,15 @@ def estimate_words(d: dict) -> list[str]:
     return out
 
 
-def badge_parts(d: dict, conds: list) -> tuple[str, str]:
+def badge_parts(d: dict, conds: list, chosen: str = "auto") -> tuple[str, str]:
     """Auto's badge from ``physics.derived`` (``d``) and ``physics.validity_conditions`` (``conds``):
-    (what the panel shows, in words; the formulas with their values, for the Details folder)."""
-    head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
+    (what the panel shows, in words; the formulas with their values, for the Details folder). ``chosen``: the
+    scene's fidelity. Where it is not auto (the default scene and the figures' presets run the full model), the
+    badge says what auto would run: "auto → full" under Fidelity "full" read as if auto were running."""
+    if chosen == "auto":
+        head = f"**auto → {d['auto_fidelity']}** · {d.get('auto_method', '')}"
+    else:
+        head = f"**{chosen}** as chosen; auto would run **{d['auto_fidelity']}** · {d.get('auto_method', '')}"
     asked = d.get("auto_accuracy", "not set")
     lines = [f"accuracy asked: {asked:g} rad" if isinstance(asked, float)
              else f"accuracy asked: {physics.DEFAULT_ACCURACY:g} rad (the default)"]

@@ -222,7 +222,7 @@ def _badge_text(sc: physics.Scenario, stop: BadgeStop | None = None) -> tuple[st
             conds = run(physics.validity_conditions, sc)
     except Exception as exc:  # never let the badge break a frame
         return f"auto: unavailable ({exc})", ""
-    return run(words.badge_parts, d, conds)
+    return run(words.badge_parts, d, conds, sc.run.fidelity)
 
 
 class BadgeCancelled(BaseException):
