@@ -27,11 +27,10 @@ import csv
 import itertools
 import math
 import os
-import signal
 import threading
 import time
 from collections.abc import Callable, Mapping
-from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures import Future
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -45,7 +44,8 @@ from physics.scenario.meta import BASE_PARAMS
 from physics.scenario.scenario import Scenario
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import FIT_BAND, METRICS
-from physics.studies.sweep import _mp_context, one_blas_thread, point_scenario, resolve_key
+from physics.studies.pool import Stopped, halting_pool, stopper, worker_halt
+from physics.studies.sweep import point_scenario, resolve_key
 
 # objective -> "min", "max" or "min_positive" (a decay time: the smallest positive; a growing nutation is worst)
 OBJECTIVES = {"decay_time": "min_positive", "braking_time": "min", "theta_end": "min",
@@ -54,7 +54,6 @@ MAX_KEYS = 4
 START_LEVELS = {1: 8, 2: 5, 3: 3, 4: 2}  # coarse points per key: 8, 25, 27, 16 runs
 STARTS = 2  # refinements, from the best distinct coarse points
 STOP_POLL_S = 0.05  # s: how often a wait for a run looks at ``stop``
-PARENT_POLL_S = 0.25  # s: how often a local worker looks whether the design's process still runs
 BUDGET = 120  # runs per design by default, the coarse start, the refinements and the full model's check included
 MAX_BUDGET = 10_000
 LOG_SPAN = 20.0  # hi/lo from which a key is searched on a log scale
@@ -119,10 +118,6 @@ class DesignResult:
         return np.array([e.values[i] for e in self.path])
 
 
-class _Stopped(Exception):
-    pass
-
-
 class DesignStopped(ScenarioError):
     """The design was stopped before its first run ended: no point ran, so there is no optimum to keep."""
 
@@ -131,19 +126,11 @@ class DesignStopped(ScenarioError):
                          "start it again and let its first run finish")
 
 
-def _stopper(stop) -> Callable[[float], None]:
-    """simulate's progress callback that ends the run once ``stop`` is set."""
-    def progress(_fraction: float) -> None:
-        if stop.is_set():
-            raise _Stopped
-    return progress
-
-
 def _result(future, stop) -> dict:
     """The future's row, waited for in short looks so that ``stop`` (Ctrl-C in the command line) ends the wait."""
     while not future.done():
         if stop.is_set():
-            raise _Stopped
+            raise Stopped
         time.sleep(STOP_POLL_S)
     return future.result()
 
@@ -154,13 +141,13 @@ def evaluate(base: Scenario, keys: tuple[str, ...], values: tuple[float, ...], o
              accuracy: float | None, stop=None) -> dict:
     """Run one point and read the objective: {"objective", "model", "error_bound", "error"}. Never raises for a
     bad point (a scenario the values make invalid, a failed run): its objective is NaN and ``error`` says why.
-    ``stop`` (in this process only): the run ends between compiled calls once it is set, raising _Stopped."""
+    ``stop`` (in this process only): the run ends between compiled calls once it is set, raising Stopped."""
     row = {"objective": math.nan, "model": "", "error_bound": math.nan, "error": "", "compute_s": 0.0}
     start = time.perf_counter()
     try:
         sc = point_scenario(base, dict(zip(keys, values, strict=True)))
         sc = sc.with_values(**{"run.fidelity": fidelity, "run.accuracy": accuracy})
-        tr = simulate(sc, progress=None if stop is None else _stopper(stop))
+        tr = simulate(sc, progress=None if stop is None else stopper(stop))
         row["model"] = str(tr.info.get("model", ""))
         row["error_bound"] = float(tr.info.get("error_bound", math.nan))
         fn = METRICS[objective] if isinstance(objective, str) else objective
@@ -169,7 +156,7 @@ def evaluate(base: Scenario, keys: tuple[str, ...], values: tuple[float, ...], o
         if isinstance(exc.__context__, KeyboardInterrupt):
             raise KeyboardInterrupt from None
         row["error"] = f"{type(exc).__name__}: {exc}"
-    except _Stopped:
+    except Stopped:
         raise
     except Exception as exc:  # noqa: BLE001 - one bad point must not end a design
         row["error"] = f"{type(exc).__name__}: {exc}"
@@ -204,33 +191,11 @@ def score(goal: str, value: float) -> float:
 
 # ---- executors -------------------------------------------------------------------------------------------
 
-_HALT = None  # in a local worker process: the design's halt, an Event shared with the design's process
-
-
-def _quiet_worker(halt) -> None:
-    """A worker leaves Ctrl-C to the design, which ends the workers' runs through ``halt`` (set when it stops or
-    ends) rather than a signal that could land anywhere. Its BLAS runs one thread (sweep.one_blas_thread)."""
-    global _HALT
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    one_blas_thread()
-    _HALT = halt
-    threading.Thread(target=_end_with_parent, args=(os.getppid(),), daemon=True).start()
-
-
-def _end_with_parent(parent: int) -> None:
-    """A worker's watch on the design's process. A second Ctrl-C ends that process at once (physics/__main__.py),
-    with no word to the pool; its idle workers would wait for work forever, each keeping the others' end of the
-    work queue open, and hold the terminal's output."""
-    while os.getppid() == parent:
-        time.sleep(PARENT_POLL_S)
-    os._exit(1)
-
-
 def _evaluate_in_worker(*args) -> dict:
     """evaluate in a local worker, ended once the design sets its halt: a stopped design does not wait for runs
     whose results it will not keep (a full run may take minutes), and a second Ctrl-C, which ends the design's
     process at once, leaves no worker running on (they held the terminal's output until their runs ended)."""
-    return evaluate(*args, stop=_HALT)
+    return evaluate(*args, stop=worker_halt())
 
 
 class _Runner:
@@ -238,7 +203,7 @@ class _Runner:
 
     def __init__(self, base, keys, objective, fidelity, accuracy, executor, workers, dask, stop):
         self.args = (base, keys)
-        self.stop = stop  # in this process a run ends once it is set (raising _Stopped from submit)
+        self.stop = stop  # in this process a run ends once it is set (raising Stopped from submit)
         self.tail = (objective, fidelity, accuracy)
         self.pool = self.client = self.cluster = None
         self.lock = threading.Lock()
@@ -263,10 +228,7 @@ class _Runner:
             else:
                 self.client, self.own = dask, False
         elif executor == "processes" and workers > 1:
-            context = _mp_context()
-            self.halt = context.Event()
-            self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_quiet_worker,
-                                            initargs=(self.halt,))
+            self.pool, self.halt = halting_pool(workers)
 
     def submit(self, values: tuple[float, ...]) -> Future:
         if self.client is not None:
@@ -420,7 +382,7 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
     # too ends once stop is set: a first point of minutes left Stop (and a first Ctrl-C) doing nothing until it ended
     try:
         first = evaluate(scenario, tuple(keys), scale.values(grid[0]), objective, fidelity, accuracy, stop)
-    except _Stopped:
+    except Stopped:
         raise DesignStopped() from None
     runner = _Runner(scenario, tuple(keys), objective, fidelity, accuracy, executor, workers, dask, stop)
 
@@ -443,7 +405,7 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
             for x, f in futures:
                 e = record("start", scale.values(x), _result(f, stop))
                 start_points.append((score(goal, e.objective), x))
-        except (KeyboardInterrupt, _Stopped):  # keep what ran; no refinement starts
+        except (KeyboardInterrupt, Stopped):  # keep what ran; no refinement starts
             stop.set()
         # auto's choice costs a cost probe and an error estimate per run: where it chose the full model at every
         # start point, the refinements run the full model directly
@@ -490,7 +452,7 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
             try:
                 check = record("check", best.values, evaluate(scenario, tuple(keys), best.values, objective, "full",
                                                               None, stop))
-            except (KeyboardInterrupt, _Stopped):  # stopped during the check: the optimum found is kept, unchecked
+            except (KeyboardInterrupt, Stopped):  # stopped during the check: the optimum found is kept, unchecked
                 stop.set()
     finally:
         runner.close()
@@ -499,7 +461,7 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
     value = check.objective if check is not None else math.nan
     try:
         refs = _references(scenario, keys, objective, stop) if references and not stop.is_set() else {}
-    except (KeyboardInterrupt, _Stopped):  # the papers' tunings are a comparison: stopping skips them, keeps the rest
+    except (KeyboardInterrupt, Stopped):  # the papers' tunings are a comparison: stopping skips them, keeps the rest
         stop.set()
         refs = {}
     # a stopped design says what ran, not what a whole one would have: refinements that took no step, and auto's
@@ -538,7 +500,7 @@ def _refine(runner: _Runner, scale: _Scale, x0: np.ndarray, step: float, maxfev:
         if values in seen:
             return seen[values]
         if stop.is_set() or len(seen) >= maxfev:
-            raise _Stopped
+            raise Stopped
         e = record(phase, values, _result(runner.submit(values), stop))
         seen[values] = score(goal, e.objective) / scale_f
         return seen[values]
@@ -552,7 +514,7 @@ def _refine(runner: _Runner, scale: _Scale, x0: np.ndarray, step: float, maxfev:
         minimize(f, x0, method="Nelder-Mead", bounds=[(0.0, 1.0)] * len(x0),
                  options={"initial_simplex": np.array(simplex), "xatol": XATOL, "fatol": FATOL,
                           "maxfev": 10 * maxfev})
-    except _Stopped:
+    except Stopped:
         pass
 
 

@@ -86,7 +86,7 @@ class _CtrlC:
     between runs and in its own runs' progress callbacks: a KeyboardInterrupt raised wherever the signal lands can
     be lost in fork's hooks while the pool starts (the design runs on) or escape between the design's handlers
     (nothing kept). A second Ctrl-C raises KeyboardInterrupt, the way out of a run that does not end (the workers
-    leave when the design's process does: design._end_with_parent). A plain attribute, not a threading.Event: a
+    leave when the design's process does: physics/studies/pool.py). A plain attribute, not a threading.Event: a
     handler that took a lock the interrupted code holds would deadlock."""
 
     def __init__(self):

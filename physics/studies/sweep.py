@@ -20,7 +20,6 @@ import hashlib
 import itertools
 import logging
 import math
-import multiprocessing
 import os
 import threading
 import time
@@ -38,6 +37,7 @@ from physics.scenario import arguments
 from physics.scenario.scenario import Scenario, _toml_names, sections
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
+from physics.studies.pool import context, one_blas_thread
 from physics.systems.choice import available
 
 NOT_NUMERIC = {"run.samples"}  # a number, but a count of outputs, not a parameter of the motion
@@ -335,36 +335,8 @@ def _read_done(path: Path, header: list[str], keys: Sequence[str], metrics: Sequ
 
 # ---- executors ---------------------------------------------------------------------------------------
 
-def _mp_context(method: str | None = None):
-    """``method`` if given; else fork when this process runs no other thread (the workers inherit the
-    loaded compiled code and need no ``if __name__ == "__main__"`` guard in the caller's script);
-    forkserver otherwise (the explorer runs server threads, and forking a threaded process can
-    deadlock); spawn where neither exists."""
-    methods = multiprocessing.get_all_start_methods()
-    if method is not None:
-        if method not in methods:
-            raise ScenarioError("start_method", method, "must be one of " + ", ".join(methods))
-        methods = [method]
-    if "fork" in methods and (method == "fork" or threading.active_count() == 1):
-        return multiprocessing.get_context("fork")
-    if "forkserver" in methods:
-        ctx = multiprocessing.get_context("forkserver")
-        ctx.set_forkserver_preload(["physics"])
-        return ctx
-    return multiprocessing.get_context("spawn")
-
-
-def one_blas_thread() -> None:
-    """A worker process's initializer: its BLAS (numpy.linalg, which the cheaper models' error estimates call) runs
-    one thread. With one worker per core, BLAS's own thread per core in every worker made the workers fight over
-    the cores: a design's runs took 45 ms in two workers against 20 ms in one process (issue 26)."""
-    from threadpoolctl import threadpool_limits  # here: it inspects the loaded libraries, for workers only
-
-    threadpool_limits(1)
-
-
 def _run_processes(tasks, workers, on_result, stop, start_method=None):
-    ctx = _mp_context(start_method)
+    ctx = context(start_method)
     if ctx.get_start_method() == "fork":
         # The first point runs here: it loads the compiled code once, and the forked workers inherit it
         # instead of each loading it again.
@@ -431,7 +403,7 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
     thread as points finish (points skipped from the CSV are not counted). Setting ``stop`` ends the
     sweep after the points already running; the rest are rows with NaN and error = NOT_RUN.
     ``start_method``: "fork", "forkserver" or "spawn" for the local processes (default: fork when
-    this process runs no other thread, else forkserver; see _mp_context).
+    this process runs no other thread, else forkserver; see pool.context).
     """
     start = time.perf_counter()
     arguments.scenario(scenario)

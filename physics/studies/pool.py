@@ -1,0 +1,96 @@
+"""Local worker processes for the studies (sweeps and designs): a run in a worker ends once the study stops, and a
+worker ends once the study's process has gone.
+
+A study stopped (Stop in the explorer, Ctrl-C in the command line) keeps no result of the runs still going, and a
+full run may take minutes: without a word to them the pool's shutdown waited for every one (a sweep stopped 3 s
+into runs of a minute returned 78 s later). The study's ``halt``, a multiprocessing Event shared with its workers,
+ends their runs at the next progress callback. A second Ctrl-C ends the study's process at once
+(physics/__main__.py) without a word to the pool; its idle workers would wait for work forever, each keeping the
+others' end of the work queue open, and hold the terminal's output: each worker watches its parent and leaves with
+it.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import threading
+import time
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
+
+from physics.core.errors import ScenarioError
+
+PARENT_POLL_S = 0.25  # s: how often a worker looks whether the study's process still runs
+
+_HALT = None  # in a worker process: its study's halt (None in the study's own process)
+
+
+class Stopped(Exception):
+    """A run ended because its study was stopped: no result, and not a failure of the point."""
+
+
+def stopper(stop) -> Callable[[float], None]:
+    """simulate's progress callback that ends the run (raising Stopped) once ``stop`` is set."""
+    def progress(_fraction: float) -> None:
+        if stop.is_set():
+            raise Stopped
+    return progress
+
+
+def context(method: str | None = None):
+    """``method`` if given; else fork when this process runs no other thread (the workers inherit the
+    loaded compiled code and need no ``if __name__ == "__main__"`` guard in the caller's script);
+    forkserver otherwise (the explorer runs server threads, and forking a threaded process can
+    deadlock); spawn where neither exists."""
+    methods = multiprocessing.get_all_start_methods()
+    if method is not None:
+        if method not in methods:
+            raise ScenarioError("start_method", method, "must be one of " + ", ".join(methods))
+        methods = [method]
+    if "fork" in methods and (method == "fork" or threading.active_count() == 1):
+        return multiprocessing.get_context("fork")
+    if "forkserver" in methods:
+        ctx = multiprocessing.get_context("forkserver")
+        ctx.set_forkserver_preload(["physics"])
+        return ctx
+    return multiprocessing.get_context("spawn")
+
+
+def one_blas_thread() -> None:
+    """Its BLAS (numpy.linalg, which the cheaper models' error estimates call) runs one thread. With one worker per
+    core, BLAS's own thread per core in every worker made the workers fight over the cores: a design's runs took
+    45 ms in two workers against 20 ms in one process (issue 26)."""
+    from threadpoolctl import threadpool_limits  # here: it inspects the loaded libraries, for workers only
+
+    threadpool_limits(1)
+
+
+def halting_pool(workers: int, ctx=None) -> tuple[ProcessPoolExecutor, object]:
+    """(a pool of ``workers`` processes, its halt): set the halt and the workers' runs end (``worker_halt``)."""
+    ctx = ctx or context()
+    halt = ctx.Event()
+    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_start_worker,
+                               initargs=(halt,)), halt
+
+
+def worker_halt():
+    """In a worker of ``halting_pool``: the study's halt, to pass as a run's ``stop``."""
+    return _HALT
+
+
+def _start_worker(halt) -> None:
+    """A worker leaves Ctrl-C to the study, which ends the workers' runs through ``halt`` rather than a signal that
+    could land anywhere; its BLAS runs one thread, and it leaves with the study's process."""
+    global _HALT
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    one_blas_thread()
+    _HALT = halt
+    threading.Thread(target=_end_with_parent, args=(os.getppid(),), daemon=True).start()
+
+
+def _end_with_parent(parent: int) -> None:
+    while os.getppid() == parent:
+        time.sleep(PARENT_POLL_S)
+    os._exit(1)
