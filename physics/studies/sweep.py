@@ -25,7 +25,7 @@ import threading
 import time
 import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -37,7 +37,7 @@ from physics.scenario import arguments
 from physics.scenario.scenario import Scenario, _toml_names, sections
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
-from physics.studies.pool import context, one_blas_thread
+from physics.studies.pool import Stopped, context, halting_pool, stopper, worker_halt
 from physics.systems.choice import available
 
 NOT_NUMERIC = {"run.samples"}  # a number, but a count of outputs, not a parameter of the motion
@@ -212,11 +212,13 @@ def check_point(base: Scenario, values: dict[str, float]) -> Scenario:
 
 # ---- one point --------------------------------------------------------------------------------------
 
-def run_point(base: Scenario, keys: Sequence[str], values: Sequence[float], metrics: Sequence[str]) -> dict:
+def run_point(base: Scenario, keys: Sequence[str], values: Sequence[float], metrics: Sequence[str],
+              stop=None) -> dict:
     """Simulate one grid point and measure it: {key: value, metric: float, "model", "error", "compute_s"}.
 
     Never raises for a bad point: an invalid scenario or a failed integration gives NaN metrics and
     ``error`` = "ExceptionType: message". Runs in the worker, so only picklable things go in and out.
+    ``stop``: the run ends between compiled calls once it is set, raising pool.Stopped (no row: it was not run).
     """
     start = time.perf_counter()
     row: dict = dict(zip(keys, (float(v) for v in values), strict=True))
@@ -226,11 +228,13 @@ def run_point(base: Scenario, keys: Sequence[str], values: Sequence[float], metr
         sc = point_scenario(base, dict(zip(keys, values, strict=True)))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # a ValidityWarning per point would drown the progress bar
-            tr = simulate(sc)
+            tr = simulate(sc, progress=None if stop is None else stopper(stop))
         row["model"] = str(tr.info.get("model", ""))
         row["error_bound"] = float(tr.info.get("error_bound", math.nan))
         for m in metrics:
             row[m] = METRICS[m](tr, sc)
+    except Stopped:
+        raise
     except Exception as exc:  # noqa: BLE001 - one bad point must not end a sweep of hundreds
         row["error"] = f"{type(exc).__name__}: {exc}"
     row["compute_s"] = time.perf_counter() - start
@@ -335,27 +339,36 @@ def _read_done(path: Path, header: list[str], keys: Sequence[str], metrics: Sequ
 
 # ---- executors ---------------------------------------------------------------------------------------
 
+def _run_point_in_worker(*args) -> dict:
+    """run_point in a worker of pool.halting_pool: it ends once the sweep sets the pool's halt."""
+    return run_point(*args, stop=worker_halt())
+
+
 def _run_processes(tasks, workers, on_result, stop, start_method=None):
     ctx = context(start_method)
     if ctx.get_start_method() == "fork":
         # The first point runs here: it loads the compiled code once, and the forked workers inherit it
         # instead of each loading it again.
-        on_result(run_point(*tasks[0]))
+        try:
+            on_result(run_point(*tasks[0], stop=stop))
+        except Stopped:
+            return
         tasks = tasks[1:]
         if not tasks or (stop is not None and stop.is_set()):
             return
-    with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=ctx, initializer=one_blas_thread) as pool:
-        pending = {pool.submit(run_point, *t) for t in tasks}
-        try:
-            while pending:
-                finished, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
-                for f in finished:
-                    on_result(f.result())
-                if stop is not None and stop.is_set():
-                    break
-        finally:
-            for f in pending:
-                f.cancel()
+    pool, halt = halting_pool(min(workers, len(tasks)), ctx)
+    pending = {pool.submit(_run_point_in_worker, *t) for t in tasks}
+    try:
+        while pending:
+            finished, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+            for f in finished:
+                on_result(f.result())
+            if stop is not None and stop.is_set():
+                break
+    finally:
+        # stopped (or failed): the runs still going end at their next progress callback, not after minutes
+        halt.set()
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _run_dask(tasks, dask, workers, on_result, stop):
@@ -401,7 +414,8 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
     (in this process). ``dask``: "local" (a LocalCluster of ``workers`` processes), a scheduler address,
     or a distributed.Client; it overrides ``executor``. ``progress(done, total)`` is called in this
     thread as points finish (points skipped from the CSV are not counted). Setting ``stop`` ends the
-    sweep after the points already running; the rest are rows with NaN and error = NOT_RUN.
+    sweep and the points still running (their runs end at the next progress callback); they and the rest are rows
+    with NaN and error = NOT_RUN.
     ``start_method``: "fork", "forkserver" or "spawn" for the local processes (default: fork when
     this process runs no other thread, else forkserver; see pool.context).
     """
@@ -490,7 +504,10 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
             _run_dask(tasks, dask, workers, on_result, stop)
         elif executor == "serial":
             for t in tasks:
-                on_result(run_point(*t))
+                try:
+                    on_result(run_point(*t, stop=stop))
+                except Stopped:
+                    break
                 if stop is not None and stop.is_set():
                     break
         else:
