@@ -129,7 +129,7 @@ def test_the_result_goes_stale_when_the_scene_changes():
 
 
 def test_stop_during_the_first_run_says_there_is_nothing_to_show():
-    """A scene whose first run takes most of a minute (t_end 4e5 s: too long for the averaged model's attitude
+    """A scene whose first run takes tens of seconds (t_end 4e5 s: too long for the averaged model's attitude
     budget, so auto runs the full model): Stop ends it, the panel says why no optimum came and the buttons are
     ready for the next design (Stop waited for the whole first run before)."""
     sc = _scene().with_values(**{"run.t_end": 4e5})
