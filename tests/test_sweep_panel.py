@@ -174,3 +174,23 @@ def test_a_points_count_the_browser_would_not_send_is_refused_on_the_server(sent
     panel.key1.fire()
     with pytest.raises(physics.ScenarioError, match="points"):
         panel.request()
+
+
+def test_a_stopped_sweep_says_its_points_were_not_run_rather_than_failed():
+    """Stop 1 s into points of 12 s or more (t_end 4e5 s: auto runs the full model): the runs end, and the panel
+    counts the points the stop left as not run; it said "4 failed" and listed them as failures."""
+    sc = _scene().with_values(**{"run.t_end": 4e5, "run.samples": 201})
+    panel = SweepPanel(FakeGui(), lambda: sc, lambda _: None, executor="serial")
+    panel.key1.value = "pendulum.k"
+    panel.key1.fire()
+    panel.n1.value = 3
+    panel.run_btn.fire()
+    panel.thread.join(timeout=1.0)
+    panel.stop_btn.fire()
+    panel.thread.join(timeout=30)
+    assert not panel.thread.is_alive()
+    assert panel.table.stopped and panel.table.failed == 0
+    assert "3 points in" in panel.status.content and "(stopped: 3 not run)" in panel.status.content
+    assert "failed" not in panel.status.content, panel.status.content
+    summary = panel.result_md.content
+    assert "3 point(s) not run (#0, #1, #2): the sweep was stopped first" in summary and "failed" not in summary

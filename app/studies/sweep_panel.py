@@ -256,12 +256,14 @@ class SweepPanel:
         self.point.options = labels
         self.point.value = labels[0]
         self.load_btn.disabled = False
-        failed = sum(1 for r in table.rows if r["error"])
+        unrun = sum(1 for r in table.rows if table.not_run(r))
         ranges = "; ".join(f"{k.split('.', 1)[1]} from {a[0]:.6g} to {a[-1]:.6g} ({len(a)} points)"
                            for k, a in zip(table.keys, table.axes, strict=True))
         self.result_md.content = sweep_view.summary(table)
-        note = (f"{len(table.rows)} points in {table.wall_s:.1f} s" + (" (stopped)" if table.stopped else "")
-                + (f", {failed} failed" if failed else "") + f": {ranges}. The result is in the Sweep window.")
+        note = (f"{len(table.rows)} points in {table.wall_s:.1f} s"
+                + (f" (stopped: {unrun} not run)" if unrun else " (stopped)" if table.stopped else "")
+                + (f", {table.failed} failed" if table.failed else "")
+                + f": {ranges}. The result is in the Sweep window.")
         if self._draw_board():
             note += " Click a cell on the floor in front of the body to load its point."
         elif self.board_box.value and len(table.rows) > BOARD_MAX:

@@ -60,6 +60,10 @@ def failure(row: dict) -> str:
     return err
 
 
+def _numbers(rows: list[int]) -> str:
+    return ", ".join(f"#{i}" for i in rows[:6]) + (" ..." if len(rows) > 6 else "")
+
+
 def ranked(table: physics.SweepTable) -> list[int]:
     """Row indices: the admissible points best first, then the other finite ones (e.g. growing), then failed."""
     g = goal(table.metric)
@@ -129,12 +133,16 @@ def summary(table: physics.SweepTable) -> str:
                          + (f", {flat} flat (tau = inf)" if flat else "") + ".")
     lines.append(estimate_line(table))
     reasons: dict[str, list[int]] = {}
+    unrun = []
     for i, row in enumerate(table.rows):
-        if row["error"]:
+        if table.not_run(row):
+            unrun.append(i)
+        elif row["error"]:
             reasons.setdefault(failure(row), []).append(i)
     for why, rows in reasons.items():
-        shown = ", ".join(f"#{i}" for i in rows[:6]) + (" ..." if len(rows) > 6 else "")
-        lines.append(f"{len(rows)} point(s) failed ({shown}): {why}")
+        lines.append(f"{len(rows)} point(s) failed ({_numbers(rows)}): {why}")
+    if unrun:
+        lines.append(f"{len(unrun)} point(s) not run ({_numbers(unrun)}): the sweep was stopped first")
     return "  \n".join(lines)
 
 

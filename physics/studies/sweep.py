@@ -273,6 +273,15 @@ class SweepTable:
     def shape(self) -> tuple[int, ...]:
         return tuple(len(a) for a in self.axes)
 
+    def not_run(self, row: dict) -> bool:
+        """The point was not run because the sweep was stopped (not a failure of the point)."""
+        return row["error"] == NOT_RUN
+
+    @property
+    def failed(self) -> int:
+        """Points run that failed (an invalid scenario, a fault), the ones a stop left unrun not counted."""
+        return sum(1 for r in self.rows if r["error"] and not self.not_run(r))
+
     def column(self, name: str) -> np.ndarray:
         """One column over all points, grid order (floats; "model" and "error" as object arrays)."""
         if name in ("model", "error"):
