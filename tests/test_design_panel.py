@@ -144,4 +144,5 @@ def test_stop_during_the_first_run_says_there_is_nothing_to_show():
     panel.thread.join(timeout=30)
     assert not panel.thread.is_alive(), "the design went on after Stop for 30 s"
     assert "Stopped before the first run ended: there is no optimum to show" in panel.status.content
+    assert panel.result_md.content == panel.status.content  # the window says it too: it has no result to show
     assert panel.result is None and not panel.run_btn.disabled and panel.stop_btn.disabled

@@ -194,3 +194,16 @@ def test_a_stopped_sweep_says_its_points_were_not_run_rather_than_failed():
     assert "failed" not in panel.status.content, panel.status.content
     summary = panel.result_md.content
     assert "3 point(s) not run (#0, #1, #2): the sweep was stopped first" in summary and "failed" not in summary
+
+
+def test_a_sweep_that_fails_says_so_in_the_window_too(monkeypatch):
+    """With no earlier result the Sweep window showed only its placeholder after a failed sweep; the status line
+    sits a scroll above Run at 1024x768, so the failure is said in the window as well."""
+    def broken(*args, **kwargs):
+        raise RuntimeError("the pool broke")
+
+    monkeypatch.setattr(sweep_panel.physics, "sweep", broken)
+    panel = SweepPanel(FakeGui(), _scene, lambda _: None, executor="serial")
+    panel.start().join(timeout=30)
+    assert "**Sweep failed:** RuntimeError: the pool broke" in panel.status.content
+    assert panel.result_md.content == panel.status.content

@@ -243,6 +243,8 @@ class SweepPanel:
             self.show(table)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
             self._say(f"**Sweep failed:** {type(exc).__name__}: {exc}")
+            if self.table is None:  # the window too, as design_panel._ended does
+                self.result_md.content = self.status.content
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
 
