@@ -44,7 +44,7 @@ from physics.scenario.meta import BASE_PARAMS
 from physics.scenario.scenario import Scenario
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import FIT_BAND, METRICS
-from physics.studies.pool import Stopped, halting_pool, stopper, worker_halt
+from physics.studies.pool import HaltingPool, Stopped, stopper, worker_halt
 from physics.studies.sweep import point_scenario, resolve_key
 
 # objective -> "min", "max" or "min_positive" (a decay time: the smallest positive; a growing nutation is worst)
@@ -228,7 +228,7 @@ class _Runner:
             else:
                 self.client, self.own = dask, False
         elif executor == "processes" and workers > 1:
-            self.pool, self.halt = halting_pool(workers)
+            self.pool = HaltingPool(workers)
 
     def submit(self, values: tuple[float, ...]) -> Future:
         if self.client is not None:
@@ -243,8 +243,7 @@ class _Runner:
     def close(self) -> None:
         """Ends the workers' runs still going (their results are not waited for) and the pool or the client."""
         if self.pool is not None:
-            self.halt.set()
-            self.pool.shutdown(wait=True, cancel_futures=True)
+            self.pool.close()
         if self.client is not None and self.own:
             self.client.close()
         if self.cluster is not None:

@@ -3,7 +3,7 @@ worker ends once the study's process has gone.
 
 A study stopped (Stop in the explorer, Ctrl-C in the command line) keeps no result of the runs still going, and a
 full run may take minutes: without a word to them the pool's shutdown waited for every one (a sweep stopped 3 s
-into runs of a minute returned 78 s later). The study's ``halt``, a multiprocessing Event shared with its workers,
+into runs of 12-34 s returned 78 s later). The study's ``halt``, a multiprocessing Event shared with its workers,
 ends their runs at the next progress callback. A second Ctrl-C ends the study's process at once
 (physics/__main__.py) without a word to the pool; its idle workers would wait for work forever, each keeping the
 others' end of the work queue open, and hold the terminal's output: each worker watches its parent and leaves with
@@ -67,16 +67,22 @@ def one_blas_thread() -> None:
     threadpool_limits(1)
 
 
-def halting_pool(workers: int, ctx=None) -> tuple[ProcessPoolExecutor, object]:
-    """(a pool of ``workers`` processes, its halt): set the halt and the workers' runs end (``worker_halt``)."""
-    ctx = ctx or context()
-    halt = ctx.Event()
-    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_start_worker,
-                               initargs=(halt,)), halt
+class HaltingPool(ProcessPoolExecutor):
+    """A pool of ``workers`` processes whose runs take ``worker_halt()`` as their stop; ``close`` sets it, so the
+    runs still going end at their next progress callback, and shuts the pool down."""
+
+    def __init__(self, workers: int, ctx=None):
+        ctx = ctx or context()
+        self.halt = ctx.Event()
+        super().__init__(max_workers=workers, mp_context=ctx, initializer=_start_worker, initargs=(self.halt,))
+
+    def close(self) -> None:
+        self.halt.set()
+        self.shutdown(wait=True, cancel_futures=True)
 
 
 def worker_halt():
-    """In a worker of ``halting_pool``: the study's halt, to pass as a run's ``stop``."""
+    """In a worker of a ``HaltingPool``: the study's halt, to pass as a run's ``stop``."""
     return _HALT
 
 

@@ -37,7 +37,7 @@ from physics.scenario import arguments
 from physics.scenario.scenario import Scenario, _toml_names, sections
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
-from physics.studies.pool import Stopped, context, halting_pool, stopper, worker_halt
+from physics.studies.pool import HaltingPool, Stopped, context, stopper, worker_halt
 from physics.systems.choice import available
 
 NOT_NUMERIC = {"run.samples"}  # a number, but a count of outputs, not a parameter of the motion
@@ -349,7 +349,7 @@ def _read_done(path: Path, header: list[str], keys: Sequence[str], metrics: Sequ
 # ---- executors ---------------------------------------------------------------------------------------
 
 def _run_point_in_worker(*args) -> dict:
-    """run_point in a worker of pool.halting_pool: it ends once the sweep sets the pool's halt."""
+    """run_point in a worker of a pool.HaltingPool: it ends once the sweep closes the pool."""
     return run_point(*args, stop=worker_halt())
 
 
@@ -365,7 +365,7 @@ def _run_processes(tasks, workers, on_result, stop, start_method=None):
         tasks = tasks[1:]
         if not tasks or (stop is not None and stop.is_set()):
             return
-    pool, halt = halting_pool(min(workers, len(tasks)), ctx)
+    pool = HaltingPool(min(workers, len(tasks)), ctx)
     pending = {pool.submit(_run_point_in_worker, *t) for t in tasks}
     try:
         while pending:
@@ -376,8 +376,7 @@ def _run_processes(tasks, workers, on_result, stop, start_method=None):
                 break
     finally:
         # stopped (or failed): the runs still going end at their next progress callback, not after minutes
-        halt.set()
-        pool.shutdown(wait=True, cancel_futures=True)
+        pool.close()
 
 
 def _run_dask(tasks, dask, workers, on_result, stop):
