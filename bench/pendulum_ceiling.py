@@ -23,13 +23,12 @@ import math
 import sys
 import time
 import warnings
-from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
 
 import physics
-from bench.machine import machine
+from bench.results_file import write_results
 from physics.systems.pendulum.accuracy import SAFETY, SAFETY_LINEAR, scenario_parts
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -159,16 +158,10 @@ def main(argv: list[str] | None = None) -> int:
             print(f"\r{n}/{len(picked)} scenarios", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
     result = summary(rows)
-    args.out.mkdir(parents=True, exist_ok=True)
+    write_results(args.out, "pendulum_ceiling", COLUMNS, rows,
+                  command=" ".join(["python -m bench pendulum-ceiling", *(sys.argv[1:] if argv is None else argv)]),
+                  studies=[p.name for p in paths], wall_s=time.perf_counter() - t0, summary=result)
     args.img.mkdir(parents=True, exist_ok=True)
-    with open(args.out / "pendulum_ceiling.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, COLUMNS)
-        w.writeheader()
-        w.writerows(rows)
-    meta = dict(command=" ".join(["python -m bench pendulum-ceiling", *(sys.argv[1:] if argv is None else argv)]),
-                studies=[p.name for p in paths], date=datetime.now(UTC).isoformat(timespec="seconds"),
-                wall_s=time.perf_counter() - t0, machine=machine(), summary=result)
-    (args.out / "pendulum_ceiling.meta.json").write_text(json.dumps(meta, indent=2) + "\n")
     chart(result, args.img / "pendulum_ceiling.png")
     p = result["product"]
     print(f"{len(rows)} scenarios with an estimate (of {len(picked)}); the product's (SAFETY {SAFETY:g}): "

@@ -23,7 +23,6 @@ import math
 import sys
 import time
 import warnings
-from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +30,7 @@ from scipy.integrate import solve_ivp
 
 import physics
 from bench.fidelity import max_theta_error
-from bench.machine import machine
+from bench.results_file import write_results
 from physics.scenario.initial import initial_G
 from physics.systems.pendulum.accuracy import SWING_SHIFT, scenario_parts
 from physics.systems.pendulum.averaged import AveragedCoefficients
@@ -154,18 +153,12 @@ def main(argv: list[str] | None = None) -> int:
             rows.append(dict(index=r["index"], **measure(sc)))
             print(f"\r{n}/{len(picked)} scenarios", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
-    args.out.mkdir(parents=True, exist_ok=True)
-    args.img.mkdir(parents=True, exist_ok=True)
-    with open(args.out / "pendulum_hardening.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, COLUMNS)
-        w.writeheader()
-        w.writerows(rows)
     result = summary(rows)
-    meta = dict(command=" ".join(["python -m bench pendulum-hardening", *(sys.argv[1:] if argv is None else argv)]),
-                study=str(args.study.resolve().relative_to(ROOT)) if args.study.resolve().is_relative_to(ROOT)
-                else str(args.study), date=datetime.now(UTC).isoformat(timespec="seconds"),
-                wall_s=time.perf_counter() - t0, machine=machine(), summary=result)
-    (args.out / "pendulum_hardening.meta.json").write_text(json.dumps(meta, indent=2) + "\n")
+    write_results(args.out, "pendulum_hardening", COLUMNS, rows,
+                  command=" ".join(["python -m bench pendulum-hardening", *(sys.argv[1:] if argv is None else argv)]),
+                  study=str(args.study.resolve().relative_to(ROOT)) if args.study.resolve().is_relative_to(ROOT)
+                  else str(args.study), wall_s=time.perf_counter() - t0, summary=result)
+    args.img.mkdir(parents=True, exist_ok=True)
     chart(rows, args.img / "pendulum_hardening.png")
     for name in VARIANTS:
         s = result[name]
