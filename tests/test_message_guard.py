@@ -133,8 +133,10 @@ def _run(app, script) -> None:
     """Connect a raw client, let the session build, then ``await script(ws, session)``."""
     async def go():
         before = set(app.sessions)
+        # max_queue=None: this client reads nothing, so a bounded queue fills with frames, the server's close
+        # frame is never read, and leaving waits out the 10 s close timeout
         async with connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
-                           max_size=None, compression=None, open_timeout=60) as ws:
+                           max_size=None, compression=None, open_timeout=60, max_queue=None) as ws:
             await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
                                fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
                                look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
