@@ -375,7 +375,7 @@ def test_an_unreachable_scheduler_is_one_line_naming_it():
                            "--vary", "k=20:80", "--budget", "20", "--dask", "tcp://127.0.0.1:1"],
                           capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
-    assert "dask = 'tcp://127.0.0.1:1': cannot be reached" in proc.stderr
+    assert "dask = 'tcp://127.0.0.1:1': cannot be reached" in proc.stderr and "refused" in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
 
 

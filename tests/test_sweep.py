@@ -163,6 +163,16 @@ def test_cli_on_an_existing_scheduler_address(tmp_path, capsys):
     assert [float(r["theta_end"]) for r in rows] == [r["theta_end"] for r in local.rows]
 
 
+def test_an_unreachable_scheduler_is_refused_naming_it():
+    """No scheduler at the address: a ScenarioError naming ``dask`` and the refusal, from the first try (dask's own
+    client retried a refused connection for 30 s and then raised a bare OSError "Timed out trying to connect")."""
+    pytest.importorskip("distributed")
+    with pytest.raises(physics.ScenarioError) as refused:
+        physics.sweep(_short_pendulum(), VARY, "theta_end", dask="tcp://127.0.0.1:1")
+    assert refused.value.key == "dask" and "cannot be reached" in str(refused.value)
+    assert "refused" in str(refused.value) and "Timed out" not in str(refused.value)
+
+
 def test_bad_points_are_rows_not_failures():
     base = physics.Scenario.load(ROOT / "assets" / "scenarios" / "prolate_flat_spin.toml").with_values(
         **{"run.t_end": 50.0, "run.samples": 51})

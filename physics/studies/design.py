@@ -44,7 +44,7 @@ from physics.scenario.meta import BASE_PARAMS
 from physics.scenario.scenario import Scenario
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import FIT_BAND, METRICS
-from physics.studies.pool import HaltingPool, Stopped, stopper, worker_halt
+from physics.studies.pool import HaltingPool, Stopped, scheduler_client, stopper, worker_halt
 from physics.studies.sweep import point_scenario, resolve_key
 
 # objective -> "min", "max" or "min_positive" (a decay time: the smallest positive; a growing nutation is worst)
@@ -61,7 +61,6 @@ XATOL = 1e-3  # Nelder-Mead's step tolerance, in the unit cube: 0.1 % of each ke
 FATOL = 1e-4  # and its value tolerance, relative to the best coarse value
 # the share of what the objective reads that a point's stated theta error may take (accuracy_for)
 SENSITIVITY_SHARE = 0.05
-DASK_TIMEOUT_S = 10  # s to reach a scheduler's address before the design is refused
 
 
 @dataclass(frozen=True)
@@ -221,10 +220,7 @@ class _Runner:
                 self.client = Client(self.cluster)
                 self.own = True
             elif isinstance(dask, str):
-                try:
-                    self.client, self.own = Client(dask, timeout=DASK_TIMEOUT_S), True
-                except (OSError, TimeoutError, ValueError) as exc:  # no scheduler there, or no address at all
-                    raise ScenarioError("dask", dask, f"cannot be reached: {exc}") from None
+                self.client, self.own = scheduler_client(dask), True
             else:
                 self.client, self.own = dask, False
         elif executor == "processes" and workers > 1:

@@ -15,14 +15,17 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import socket
 import threading
 import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
+from urllib.parse import urlsplit
 
 from physics.core.errors import ScenarioError
 
 PARENT_POLL_S = 0.25  # s: how often a worker looks whether the study's process still runs
+DASK_TIMEOUT_S = 10  # s to reach a scheduler's address before the study is refused
 
 _HALT = None  # in a worker process: its study's halt (None in the study's own process)
 
@@ -100,3 +103,25 @@ def _end_with_parent(parent: int) -> None:
     while os.getppid() == parent:
         time.sleep(PARENT_POLL_S)
     os._exit(1)
+
+
+def scheduler_client(address: str):
+    """A distributed.Client of the dask scheduler at ``address``, or a ScenarioError naming it.
+
+    dask retries a refused connection until its timeout (30 s by default, with a bare OSError at the end), so an
+    address with no scheduler behind it is tried once here first and refused at once."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ScenarioError("dask", address, "needs dask.distributed: pip install 'dask[distributed]'") from None
+    try:
+        parts = urlsplit(address)
+        where = (parts.hostname, parts.port) if parts.scheme == "tcp" and parts.hostname and parts.port else None
+    except ValueError:  # a port that is no port: dask's own parsing says so below
+        where = None
+    try:
+        if where is not None:
+            socket.create_connection(where, timeout=DASK_TIMEOUT_S).close()
+        return Client(address, timeout=DASK_TIMEOUT_S)
+    except (OSError, TimeoutError, ValueError) as exc:  # no scheduler there, or no address at all
+        raise ScenarioError("dask", address, f"cannot be reached: {exc}") from None

@@ -37,7 +37,7 @@ from physics.scenario import arguments
 from physics.scenario.scenario import Scenario, _toml_names, sections
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
-from physics.studies.pool import HaltingPool, Stopped, context, stopper, worker_halt
+from physics.studies.pool import HaltingPool, Stopped, context, scheduler_client, stopper, worker_halt
 from physics.systems.choice import available
 
 NOT_NUMERIC = {"run.samples"}  # a number, but a count of outputs, not a parameter of the motion
@@ -389,7 +389,7 @@ def _run_dask(tasks, dask, workers, on_result, stop):
                                        dashboard_address=None, silence_logs=logging.ERROR)
             own_client = client = Client(own_cluster)
         else:
-            own_client = client = Client(dask)
+            own_client = client = scheduler_client(dask)
     else:
         client = dask
     try:
