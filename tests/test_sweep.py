@@ -173,6 +173,19 @@ def test_an_unreachable_scheduler_is_refused_naming_it():
     assert "refused" in str(refused.value) and "Timed out" not in str(refused.value)
 
 
+@pytest.mark.parametrize("address", ["inproc://x", "ucx://10.0.0.1:8786", "tcp://127.0.0.1:99999", "tcp://127.0.0.1:0",
+                                     "tcp://127.0.0.1:-5", "tcp://:8786", "", "x" * 100_000, "foo://1.2.3.4:5"])
+def test_an_address_that_is_no_scheduler_address_is_refused_in_words(address):
+    """Each of these raised dask's own error (an AssertionError, a TypeError) or waited out its timeout."""
+    pytest.importorskip("distributed")
+    with pytest.raises(physics.ScenarioError) as refused:
+        physics.sweep(_short_pendulum(), VARY, "theta_end", dask=address)
+    said = str(refused.value)
+    assert refused.value.key == "dask"
+    assert "tcp://host:port with a port from 1 to 65535" in said or "cannot be reached" in said
+    assert len(said) < 1000 and "Timed out" not in said
+
+
 def test_bad_points_are_rows_not_failures():
     base = physics.Scenario.load(ROOT / "assets" / "scenarios" / "prolate_flat_spin.toml").with_values(
         **{"run.t_end": 50.0, "run.samples": 51})

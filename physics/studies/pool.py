@@ -12,6 +12,7 @@ it.
 
 from __future__ import annotations
 
+import importlib.util
 import multiprocessing
 import os
 import signal
@@ -108,20 +109,39 @@ def _end_with_parent(parent: int) -> None:
 def scheduler_client(address: str):
     """A distributed.Client of the dask scheduler at ``address``, or a ScenarioError naming it.
 
-    dask retries a refused connection until its timeout (30 s by default, with a bare OSError at the end), so an
-    address with no scheduler behind it is tried once here first and refused at once."""
+    dask retries a refused connection until its timeout (30 s by default, with a bare OSError at the end), and
+    an address it cannot use raised whatever its code did (an AssertionError for ``inproc://x``, a TypeError for
+    ``ucx://`` without ucx): a TCP address is checked and tried once here first, and any other failure to
+    connect is said in words."""
     try:
         from distributed import Client
+        from distributed.comm.registry import backends
     except ImportError:
         raise ScenarioError("dask", address, "needs dask.distributed: pip install 'dask[distributed]'") from None
+    # ucx is registered without ucx-py installed, and its half-built client then prints a traceback at exit
+    schemes = [s for s in sorted(backends) if s != "ucx" or importlib.util.find_spec("ucp") is not None]
+    allowed = (f"a scheduler's address (tcp://host:port with a port from 1 to 65535, or an "
+               f"{', '.join(s for s in schemes if s != 'tcp')} address), or 'local'")
+    scheme = address.split("://", 1)[0] if "://" in address else "tcp"  # dask reads a bare host:port as tcp
+    if scheme not in schemes:
+        raise ScenarioError("dask", address, allowed)
     try:
-        parts = urlsplit(address)
-        where = (parts.hostname, parts.port) if parts.scheme == "tcp" and parts.hostname and parts.port else None
-    except ValueError:  # a port that is no port: dask's own parsing says so below
-        where = None
-    try:
-        if where is not None:
-            socket.create_connection(where, timeout=DASK_TIMEOUT_S).close()
+        if scheme in ("tcp", "tls"):
+            socket.create_connection(_host_port(address, allowed), timeout=DASK_TIMEOUT_S).close()
         return Client(address, timeout=DASK_TIMEOUT_S)
-    except (OSError, TimeoutError, ValueError) as exc:  # no scheduler there, or no address at all
-        raise ScenarioError("dask", address, f"cannot be reached: {exc}") from None
+    except ScenarioError:
+        raise
+    except Exception as exc:  # noqa: BLE001 (a library's failure to connect, in words: no scheduler there, none answers)
+        raise ScenarioError("dask", address, f"cannot be reached: {exc or type(exc).__name__}") from None
+
+
+def _host_port(address: str, allowed: str) -> tuple[str, int]:
+    """(host, port) of a tcp:// or tls:// address, or a ScenarioError saying what is allowed."""
+    try:
+        parts = urlsplit(address if "://" in address else "tcp://" + address)
+        host, port = parts.hostname, parts.port  # a port out of 0-65535, or not a number, raises ValueError
+    except ValueError:
+        raise ScenarioError("dask", address, allowed) from None
+    if not host or port is None or not 1 <= port <= 65535:
+        raise ScenarioError("dask", address, allowed)
+    return host, port
