@@ -113,14 +113,6 @@ class DesignPanel:
     def _say(self, text: str) -> None:
         self.status.content = text
 
-    def _ended(self, text: str) -> None:
-        """A design that ended with no result: said in the status line and, while the window has no earlier
-        result to keep showing, in the window too. At 1024x768 the status line sits a scroll above Run and Stop
-        once the window opens, and a click there seemed to get no answer."""
-        self._say(text)
-        if self.result is None:
-            self.result_md.content = text
-
     def _take_runs(self) -> None:
         n = runs_of(self.runs.value)
         if n is None:
@@ -244,9 +236,10 @@ class DesignPanel:
                                     progress=self._progress, stop=self.stop)
             self.show(result)
         except physics.DesignStopped:
-            self._ended("Stopped before the first run ended: there is no optimum to show. **Run design** starts again.")
+            results_window.say_ended(self.status, self.result_md, "Stopped before the first run ended: there is no "
+                                     "optimum to show. **Run design** starts again.", self.result is not None)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            self._ended(f"**Design failed:** {exc}")
+            results_window.say_ended(self.status, self.result_md, f"**Design failed:** {exc}", self.result is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
 

@@ -37,3 +37,12 @@ def results_tab(gui, label: str):
     _first[gui] = window
     window.dock_below(gui.main_panel)  # docked right by the server; docking it here would close its folders
     return tab
+
+
+def say_ended(status, window, text: str, has_result: bool) -> None:
+    """A study that ended with no result: said in its status line and, while its window shows no earlier result,
+    in the window too. At 1024x768 the status line sits a scroll above Run and Stop once the window opens, and a
+    click there seemed to get no answer."""
+    status.content = text
+    if not has_result:
+        window.content = text

@@ -242,9 +242,8 @@ class SweepPanel:
                                   progress=self._progress, stop=self.stop)
             self.show(table)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            self._say(f"**Sweep failed:** {type(exc).__name__}: {exc}")
-            if self.table is None:  # the window too, as design_panel._ended does
-                self.result_md.content = self.status.content
+            results_window.say_ended(self.status, self.result_md, f"**Sweep failed:** {type(exc).__name__}: {exc}",
+                                     self.table is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
 

@@ -113,11 +113,9 @@ def scheduler_client(address: str):
     an address it cannot use raised whatever its code did (an AssertionError for ``inproc://x``, a TypeError for
     ``ucx://`` without ucx): a TCP address is checked and tried once here first, and any other failure to
     connect is said in words."""
-    try:
-        from distributed import Client
-        from distributed.comm.registry import backends
-    except ImportError:
-        raise ScenarioError("dask", address, "needs dask.distributed: pip install 'dask[distributed]'") from None
+    from distributed import Client  # both callers import distributed first: missing, it fails there
+    from distributed.comm.registry import backends
+
     # ucx is registered without ucx-py installed, and its half-built client then prints a traceback at exit
     schemes = [s for s in sorted(backends) if s != "ucx" or importlib.util.find_spec("ucp") is not None]
     allowed = (f"a scheduler's address (tcp://host:port with a port from 1 to 65535, or an "
@@ -125,12 +123,11 @@ def scheduler_client(address: str):
     scheme = address.split("://", 1)[0] if "://" in address else "tcp"  # dask reads a bare host:port as tcp
     if scheme not in schemes:
         raise ScenarioError("dask", address, allowed)
+    where = _host_port(address, allowed) if scheme in ("tcp", "tls") else None
     try:
-        if scheme in ("tcp", "tls"):
-            socket.create_connection(_host_port(address, allowed), timeout=DASK_TIMEOUT_S).close()
+        if where is not None:
+            socket.create_connection(where, timeout=DASK_TIMEOUT_S).close()
         return Client(address, timeout=DASK_TIMEOUT_S)
-    except ScenarioError:
-        raise
     except Exception as exc:  # noqa: BLE001 (a library's failure to connect, in words: no scheduler there, none answers)
         raise ScenarioError("dask", address, f"cannot be reached: {exc or type(exc).__name__}") from None
 
