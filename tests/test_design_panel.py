@@ -146,3 +146,18 @@ def test_stop_during_the_first_run_says_there_is_nothing_to_show():
     assert "Stopped before the first run ended: there is no optimum to show" in panel.status.content
     assert panel.result_md.content == panel.status.content  # the window says it too: it has no result to show
     assert panel.result is None and not panel.run_btn.disabled and panel.stop_btn.disabled
+
+
+def test_the_status_line_sits_under_run_and_stop():
+    """At 1024x768 the folder's top is a scroll away from Run once the panel is open, so a refusal said there
+    looked like a click with no answer: the line that says it comes right after the buttons and the bar."""
+    gui = FakeGui()
+    sc = _scene()
+    panel = DesignPanel(gui, lambda: sc, lambda s: None, executor="serial")
+    order = gui.handles
+    at = order.index(panel.run_btn)
+    assert order[at:at + 4] == [panel.run_btn, panel.stop_btn, panel.bar, panel.status]
+    (key1, _, _), (key2, _, _), _ = panel.slots
+    key1.value = key2.value = "pendulum.k"
+    panel.run_btn.fire()
+    assert "chosen twice" in order[at + 3].content

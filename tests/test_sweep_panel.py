@@ -207,3 +207,17 @@ def test_a_sweep_that_fails_says_so_in_the_window_too(monkeypatch):
     panel.start().join(timeout=30)
     assert "**Sweep failed:** RuntimeError: the pool broke" in panel.status.content
     assert panel.result_md.content == panel.status.content
+
+
+def test_the_status_line_sits_under_run_and_stop():
+    """As the design panel's (tests/test_design_panel.py): the refusal is said where the click was."""
+    sc = _scene()
+    gui = FakeGui()
+    panel = SweepPanel(gui, lambda: sc, lambda s: None, executor="serial")
+    order = gui.handles
+    at = order.index(panel.run_btn)
+    assert order[at:at + 4] == [panel.run_btn, panel.stop_btn, panel.bar, panel.status]
+    panel.key1.value = panel.key2.value = "pendulum.k"
+    panel.run_btn.fire()
+    assert "Cannot start" in order[at + 3].content
+

@@ -30,6 +30,7 @@ LIVE_EVERY = 5  # runs between redraws of the live chart and status line
 MIN_RUNS, MAX_RUNS = 20, 400
 BESIDE_SCENE = "this scene"
 NO_RESULT = "(run a design first)"
+READY = "**Run design** runs it; its progress and any refusal show here."
 STALE = "**Stale:** the scene has changed since this design; its optimum is for the earlier scene. Run it again " \
         "for the current one."
 OBJECTIVE_HINT = "; ".join(f"{name}: {design_view.GOAL_WORDS[goal]} {physics.METRICS[name].meaning} "
@@ -71,8 +72,8 @@ class DesignPanel:
         sc = get_scenario()
         self.system = sc.system
         keys = sweepable(sc) or [NONE]
-        self.status = gui.add_markdown("Pick up to three sliders, their ranges and an objective: the design finds "
-                                       "the best point within them.")
+        gui.add_markdown("Pick up to three sliders, their ranges and an objective: the design finds "
+                         "the best point within them.")
         self.slots = []
         names = ("parameter", "second parameter", "third parameter")
         for i, name in enumerate(names):
@@ -91,6 +92,7 @@ class DesignPanel:
         self.run_btn = gui.add_button("Run design")
         self.stop_btn = gui.add_button("Stop design", disabled=True)
         self.bar = gui.add_progress_bar(0.0)
+        self.status = gui.add_markdown(READY)  # under Run and Stop, in sight of them at 1024x768 (sweep_panel.py)
         tab = results_window.results_tab(gui, "Design")
         with tab if tab is not None else contextlib.nullcontext():
             self.result_md = gui.add_markdown("Run a design: its optimum and its runs appear here.")

@@ -41,8 +41,8 @@ def results_tab(gui, label: str):
 
 def say_ended(status, window, text: str, has_result: bool) -> None:
     """A study that ended with no result: said in its status line and, while its window shows no earlier result,
-    in the window too. At 1024x768 the status line sits a scroll above Run and Stop once the window opens, and a
-    click there seemed to get no answer."""
+    in the window too, which would otherwise go on inviting a run: the window is where the eye goes once a study
+    is started, and at 1024x768 it is the only part of the study in sight beside Run and Stop."""
     status.content = text
     if not has_result:
         window.content = text

@@ -29,6 +29,7 @@ NONE = "(none)"
 NO_POINTS = "(run a sweep first)"
 DEFAULT_POINTS = 8  # per parameter: 8 x 8 = 64 runs is a minute or so for the presets on two cores
 MAX_POINTS = 60  # per parameter, so a misclick cannot queue thousands of runs
+READY = "**Run sweep** runs every point; its progress and any refusal show here."
 STALE = "**Stale:** the scene has changed since this sweep; its points are those of the earlier scene. " \
         "Run the sweep again for the current one."
 
@@ -69,7 +70,7 @@ class SweepPanel:
         sc = get_scenario()
         self.system = sc.system
         keys = sweepable(sc) or [NONE]
-        self.status = gui.add_markdown("Vary one or two parameters; each point is a full run.")
+        gui.add_markdown("Vary one or two parameters; each point is a full run.")
         self.key1 = gui.add_dropdown("parameter", keys, initial_value=keys[0],
                                      hint="the slider to vary (along the curve, or down the heat map)")
         self.lo1 = gui.add_number("from", 0.0, step=0.01)
@@ -88,6 +89,9 @@ class SweepPanel:
         self.run_btn = gui.add_button("Run sweep")
         self.stop_btn = gui.add_button("Stop sweep", disabled=True)
         self.bar = gui.add_progress_bar(0.0)
+        # under Run and Stop, not at the folder's top: at 1024x768 the top is a scroll away from the buttons,
+        # and a refusal there looked like a click that got no answer
+        self.status = gui.add_markdown(READY)
         self.board_box = gui.add_checkbox("cells in the 3-D scene", False, visible=scene is not None,
                                           hint="also draw the points on the floor in front of the body; "
                                           "clicking a cell loads its point")
