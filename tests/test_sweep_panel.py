@@ -221,3 +221,16 @@ def test_the_status_line_sits_under_run_and_stop():
     panel.run_btn.fire()
     assert "Cannot start" in order[at + 3].content
 
+
+def test_an_end_no_scene_can_take_is_refused_before_the_sweep_starts():
+    """A user typed from = 5 kg for m in a 1 kg body: the sweep used to start and fail as
+    "Sweep failed: ScenarioError: ...". It is refused at Run, in words, with no thread started."""
+    sc = physics.Scenario.load(ROOT / "assets" / "scenarios" / "oblate_settling.toml")
+    panel = SweepPanel(FakeGui(), lambda: sc, lambda s: None, executor="serial")
+    panel.key1.value = "mass.m"
+    panel.key1.fire()
+    panel.lo1.value = 5.0
+    panel.run_btn.fire()
+    said = panel.status.content
+    assert panel.thread is None and said.startswith("**Cannot start:**"), said
+    assert "mass.m = 5.0" in said and "must be less than body.M" in said and "ScenarioError" not in said

@@ -13,6 +13,7 @@ Nothing here raises into viser: a failed sweep or an invalid point becomes a mes
 from __future__ import annotations
 
 import contextlib
+import itertools
 import math
 import threading
 from collections.abc import Callable
@@ -214,6 +215,8 @@ class SweepPanel:
             vary[scenario_key(key, sc.system)] = spec
         if len(vary) < (2 if self.key2.value != NONE else 1):
             raise physics.ScenarioError("second parameter", self.key2.value, "must differ from the first")
+        for corner in itertools.product(*([(k, s[-3]), (k, s[-2])] for k, s in vary.items())):
+            sc.with_values(**dict(corner))  # an end no scene can take is refused here, not as a failed sweep
         return sc, vary, self.metric.value
 
     def start(self) -> threading.Thread | None:
@@ -246,8 +249,8 @@ class SweepPanel:
                                   progress=self._progress, stop=self.stop)
             self.show(table)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            results_window.say_ended(self.status, self.result_md, f"**Sweep failed:** {type(exc).__name__}: {exc}",
-                                     self.table is not None)
+            why = str(exc) if isinstance(exc, physics.ScenarioError) else f"{type(exc).__name__}: {exc}"
+            results_window.say_ended(self.status, self.result_md, f"**Sweep failed:** {why}", self.table is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
 
