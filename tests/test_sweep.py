@@ -173,6 +173,18 @@ def test_an_unreachable_scheduler_is_refused_naming_it():
     assert "refused" in str(refused.value) and "Timed out" not in str(refused.value)
 
 
+@pytest.mark.parametrize("study", ["sweep", "design"])
+def test_dask_without_distributed_installed_is_said_with_the_install_command(study, monkeypatch):
+    """dask is in the test extra only: on a plain install a sweep raised a bare ModuleNotFoundError."""
+    monkeypatch.setitem(sys.modules, "distributed", None)  # what ``import distributed`` meets when it is missing
+    with pytest.raises(physics.ScenarioError) as refused:
+        if study == "sweep":
+            physics.sweep(_short_pendulum(), VARY, "theta_end", dask="local")
+        else:
+            physics.design(_short_pendulum(), {"pendulum.c_d": (4.0, 16.0)}, dask="local")
+    assert refused.value.key == "dask" and "pip install 'dask[distributed]'" in str(refused.value)
+
+
 @pytest.mark.parametrize("address", ["inproc://x", "ucx://10.0.0.1:8786", "tcp://127.0.0.1:99999", "tcp://127.0.0.1:0",
                                      "tcp://127.0.0.1:-5", "tcp://:8786", "", "x" * 100_000, "foo://1.2.3.4:5"])
 def test_an_address_that_is_no_scheduler_address_is_refused_in_words(address):

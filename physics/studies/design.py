@@ -44,7 +44,7 @@ from physics.scenario.meta import BASE_PARAMS
 from physics.scenario.scenario import Scenario
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import FIT_BAND, METRICS
-from physics.studies.pool import HaltingPool, Stopped, scheduler_client, stopper, worker_halt
+from physics.studies.pool import NEEDS_DISTRIBUTED, HaltingPool, Stopped, scheduler_client, stopper, worker_halt
 from physics.studies.sweep import point_scenario, resolve_key
 
 # objective -> "min", "max" or "min_positive" (a decay time: the smallest positive; a growing nutation is worst)
@@ -210,7 +210,7 @@ class _Runner:
             try:
                 from distributed import Client, LocalCluster
             except ImportError:
-                raise ScenarioError("dask", dask, "needs dask.distributed: pip install 'dask[distributed]'") from None
+                raise ScenarioError("dask", dask, NEEDS_DISTRIBUTED) from None
 
             if isinstance(dask, str) and dask == "local":
                 import logging

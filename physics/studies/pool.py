@@ -27,6 +27,7 @@ from physics.core.errors import ScenarioError
 
 PARENT_POLL_S = 0.25  # s: how often a worker looks whether the study's process still runs
 DASK_TIMEOUT_S = 10  # s to reach a scheduler's address before the study is refused
+NEEDS_DISTRIBUTED = "needs dask.distributed: pip install 'dask[distributed]'"  # in the test extra only
 
 _HALT = None  # in a worker process: its study's halt (None in the study's own process)
 

@@ -37,7 +37,15 @@ from physics.scenario import arguments
 from physics.scenario.scenario import Scenario, _toml_names, sections
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
-from physics.studies.pool import HaltingPool, Stopped, context, scheduler_client, stopper, worker_halt
+from physics.studies.pool import (
+    NEEDS_DISTRIBUTED,
+    HaltingPool,
+    Stopped,
+    context,
+    scheduler_client,
+    stopper,
+    worker_halt,
+)
 from physics.systems.choice import available
 
 NOT_NUMERIC = {"run.samples"}  # a number, but a count of outputs, not a parameter of the motion
@@ -380,7 +388,10 @@ def _run_processes(tasks, workers, on_result, stop, start_method=None):
 
 
 def _run_dask(tasks, dask, workers, on_result, stop):
-    from distributed import Client, LocalCluster, as_completed
+    try:
+        from distributed import Client, LocalCluster, as_completed
+    except ImportError:  # a plain install has no dask: said as the design says it, not as a bare ImportError
+        raise ScenarioError("dask", dask, NEEDS_DISTRIBUTED) from None
 
     own_cluster = own_client = None
     if isinstance(dask, str):
