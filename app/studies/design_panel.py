@@ -22,7 +22,7 @@ from ..engine.compare import SLIDERS
 from . import design_view, results_window
 from .stale import same_scene
 from .sweep_panel import NONE, sweepable
-from .sweep_ranges import box_precision, box_step, default_range, scenario_key
+from .sweep_ranges import default_range, scenario_key, show_range
 
 SLOTS = 3  # sliders a design varies from the explorer (physics.design takes four)
 DEFAULT_RUNS = 120
@@ -134,10 +134,7 @@ class DesignPanel:
             a, b = default_range(self.get_scenario(), key.value, 8)
         except Exception:  # noqa: BLE001 - a scenario being swapped out: keep the old range
             return
-        for box, v in ((lo, a), (hi, b)):
-            box.precision = box_precision(a, b)  # before the value: viser fixes a box's decimals at its first value
-            box.step = box_step(a, b)
-            box.value = v
+        show_range(lo, hi, a, b)
 
     def refresh(self) -> None:
         """Rebuild the slider lists for the scene's current system (call after a system change)."""

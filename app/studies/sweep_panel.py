@@ -24,7 +24,7 @@ from ..engine import controls
 from . import results_window, sweep_view
 from .stale import same_scene
 from .sweep_board import BOARD_MAX, SweepBoard
-from .sweep_ranges import box_precision, box_step, default_range, scenario_key
+from .sweep_ranges import default_range, scenario_key, show_range
 
 NONE = "(none)"
 NO_POINTS = "(run a sweep first)"
@@ -151,12 +151,7 @@ class SweepPanel:
             a, b = default_range(self.get_scenario(), key, count_of(n.value) or self._counts[which])
         except Exception:  # noqa: BLE001 - a scenario being swapped out: keep the old range
             return
-        for box, v in ((lo, a), (hi, b)):
-            # viser's number box shows and accepts as many decimals as its precision, fixed when it was
-            # made from its first value (0 -> whole numbers): widen it before the value arrives
-            box.precision = box_precision(a, b)
-            box.step = box_step(a, b)
-            box.value = v
+        show_range(lo, hi, a, b)
 
     def refresh(self) -> None:
         """Rebuild the parameter lists for the scene's current system (call after a system change)."""

@@ -130,3 +130,12 @@ def box_step(lo: float, hi: float) -> float:
     """The arrows' step of a from/to box: a tenth of the range's order of magnitude."""
     span = abs(hi - lo) or abs(hi) or 1.0
     return 10.0 ** (math.floor(math.log10(span)) - 1)
+
+
+def show_range(lo_box, hi_box, lo: float, hi: float) -> None:
+    """Put a range into its from/to boxes. viser's number box shows and accepts as many decimals as its precision,
+    fixed when it was made from its first value (0 -> whole numbers): the precision is widened before the value."""
+    for box, v in ((lo_box, lo), (hi_box, hi)):
+        box.precision = box_precision(lo, hi)
+        box.step = box_step(lo, hi)
+        box.value = v
