@@ -10,10 +10,9 @@ import time
 from types import SimpleNamespace
 
 import pytest
-import viser
-from test_security_upload_stream import _msg, _session  # viser's wire format and the new client's session
+from raw_client import CAMERA, raw_session
+from raw_client import encode as _msg
 from viser import _messages as msgs
-from websockets.asyncio.client import connect
 
 from app.serve.message_guard import refusal, screen_gui_updates, well_formed
 from app.studies.sweep_panel import DEFAULT_POINTS, MAX_POINTS
@@ -83,10 +82,6 @@ def test_an_upload_button_takes_no_value_from_an_update():
         assert why is not None and why.startswith("Load a scenario:") and "only by uploading" in why
 
 
-CAMERA = dict(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9), fov=1.3, near=0.01,
-              far=1000.0, image_height=720, image_width=1280, look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0))
-
-
 def test_a_well_formed_frame_is_its_message():
     assert isinstance(well_formed(_msg(**CAMERA)), msgs.ViewerCameraMessage)
     assert isinstance(well_formed(_msg(**{**CAMERA, "fov": 1})), msgs.ViewerCameraMessage)  # an int for a float
@@ -132,15 +127,7 @@ def _wait(predicate, deadline_s: float = 60.0):
 def _run(app, script) -> None:
     """Connect a raw client, let the session build, then ``await script(ws, session)``."""
     async def go():
-        before = set(app.sessions)
-        # max_queue=None: this client reads nothing, so a bounded queue fills with frames, the server's close
-        # frame is never read, and leaving waits out the 10 s close timeout
-        async with connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
-                           max_size=None, compression=None, open_timeout=60, max_queue=None) as ws:
-            await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
-                               fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
-                               look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
-            session = await asyncio.to_thread(_session, app, before)
+        async with raw_session(app) as (ws, session):
             await script(ws, session)
 
     asyncio.run(go())

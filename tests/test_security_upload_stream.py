@@ -5,22 +5,16 @@ sent the same way still loads. The client speaks viser's wire format (msgpack), 
 from __future__ import annotations
 
 import asyncio
-import time
 from pathlib import Path
 
-import msgspec
 import pytest
-import viser
-from websockets.asyncio.client import connect
+from raw_client import dial, introduce, raw_session
+from raw_client import encode as _msg
 
 from app.engine.upload import MAX_UPLOAD_BYTES
 
 ROOT = Path(__file__).resolve().parents[1]
 PART = 1_000_000  # bytes a part: viser's browser client sends parts of about this size
-
-
-def _msg(**fields) -> bytes:
-    return msgspec.msgpack.encode(fields)
 
 
 @pytest.fixture(scope="module")
@@ -32,31 +26,12 @@ def app():
     a.close()
 
 
-def _session(app, before, deadline_s: float = 60.0):
-    """The session built for this client: a new client id, not the last test's client still closing."""
-    end = time.monotonic() + deadline_s
-    while time.monotonic() < end:
-        new = [s for cid, s in list(app.sessions.items()) if cid not in before]
-        if new:
-            return new[0]
-        time.sleep(0.05)
-    raise AssertionError("no session was built for the raw client")
-
-
 def _send(app, messages_of) -> object:
     """Connect, let the session build, send what ``messages_of(session)`` gives, wait a little; the session."""
     holder = {}
 
     async def go():
-        before = set(app.sessions)
-        # max_queue=None: this client reads nothing, so a bounded queue fills with frames, the server's close
-        # frame is never read, and leaving waits out the 10 s close timeout
-        async with connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
-                           max_size=None, compression=None, open_timeout=60, max_queue=None) as ws:
-            await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
-                               fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
-                               look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
-            session = await asyncio.to_thread(_session, app, before)
+        async with raw_session(app) as (ws, session):
             holder["session"] = session
             for m in messages_of(session):
                 await ws.send(m)
@@ -125,12 +100,8 @@ def test_one_part_over_the_message_bound_is_refused_at_its_header(app):
     async def go():
         before = set(app.sessions)
         # not ``async with``: its closing of a connection the server has already closed fails inside asyncio
-        ws = await connect(f"ws://127.0.0.1:{app.port}", subprotocols=[f"viser-v{viser.__version__}"],
-                           max_size=None, compression=None, open_timeout=60)
-        await ws.send(_msg(type="ViewerCameraMessage", wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, -3.4, 1.9),
-                           fov=1.3, near=0.01, far=1000.0, image_height=720, image_width=1280,
-                           look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
-        session = await asyncio.to_thread(_session, app, before)
+        ws = await dial(app)
+        session = await introduce(app, ws, before)
         uuid = _upload_uuid(session)
         await ws.send(_msg(type="FileTransferStartUpload", source_component_uuid=uuid, transfer_uuid="one",
                            filename="x.toml", mime_type="application/toml", part_count=1, size_bytes=1000))
