@@ -64,10 +64,14 @@ def url():
         proc.kill()
 
 
-# Headless chromium draws the 3-D view in software (SwiftShader) at 60 frames per second, which took about a core
-# of CI's two: the tests' pages draw at most 10 (the server still publishes every frame, and a screenshot shows the
-# latest). Measured on tests/test_app_browser_typed.py, quiet machine: 227 s unthrottled, 167 s at 10 per second.
-FRAME_MS = 100
+# Headless chromium draws the 3-D view in software (SwiftShader), which took the larger part of CI's two cores: the
+# tests' pages draw at most 2 frames per second (the server still publishes every frame, and a screenshot shows the
+# latest). A frame costs chromium about 0.24 CPU-s, so at 10 per second it drew only ~4.7 and used 1.4 cores, at 2
+# per second 0.74. The browser test files controls, typed, reject and scene together, quiet machine
+# (python -m pytest -q tests/test_app_browser_{controls,typed,reject,scene}.py): 295 and 299 s at FRAME_MS = 100,
+# 181 s at 250, 142 and 137 s at 500, 119 s at 1000. (tests/test_app_browser_typed.py alone: 227 s unthrottled,
+# 167 s at 100.) UI animations (a folder opening) are paced by these frames too: wait for what they show.
+FRAME_MS = 500
 THROTTLE_JS = """(() => {
     // as the browser's own: every callback asked for before the next frame runs in that frame, with one time
     const ms = FRAME_MS; let queue = [], timer = null, last = 0, id = 0;
