@@ -165,6 +165,19 @@ def wait_until(page, predicate, what: str, timeout_ms: int = UI_TIMEOUT):
     pytest.fail(f"timed out waiting for {what}")
 
 
+def paused_t(page) -> str:
+    """The page's t once it holds, after a Pause: the page takes the server's messages once a frame (viser's client
+    reads them in its render loop), so right after the click it can still show an earlier t."""
+    last = read(page, "t")
+    for _ in range(UI_TIMEOUT // (3 * FRAME_MS)):
+        page.wait_for_timeout(3 * FRAME_MS)
+        now = read(page, "t")
+        if now == last:
+            return now
+        last = now
+    pytest.fail(f"t did not hold after Pause: last {last}")
+
+
 def control_id(page, label: str) -> str:
     lab = page.locator("label").filter(has_text=re.compile(rf"^{re.escape(label)}$")).first
     return lab.get_attribute("for")
@@ -339,7 +352,7 @@ def test_the_sweep_panel_opens_on_demand(page):
 
 def test_two_tabs_run_independent_simulations(page, browser, url, tmp_path):
     click(page, "Pause")
-    frozen = read(page, "t")
+    frozen = paused_t(page)
     other = browser.new_page(viewport={"width": 1400, "height": 900})
     other.set_default_timeout(UI_TIMEOUT)
     try:

@@ -23,6 +23,7 @@ from test_app_browser import (  # noqa: F401  (url and browser are fixtures)
     choose_until,
     click,
     open_page,
+    paused_t,
     read,
     readouts,
     url,
@@ -159,8 +160,7 @@ def test_plots_show_the_whole_run_or_the_last_seconds(page):
     click(page, "Reset")
     page.wait_for_timeout(9000)  # past the recent window (6 s played)
     click(page, "Pause")
-    page.wait_for_timeout(800)
-    t_now = float(read(page, "t").split()[0])
+    t_now = float(paused_t(page).split()[0])
     assert min(_x_ticks(page, "energy E")) == 0.0  # the whole run, from t = 0
     # a dropdown whose options the server is resending can swallow a click: choose_until chooses again
     choose_until(page, "plots show", next(label for label, span in SPANS.items() if span == "recent"),
@@ -197,8 +197,7 @@ def test_csv_after_a_high_warp_starts_at_t0(page, tmp_path):
     click(page, "Play")
     page.wait_for_timeout(4000)
     click(page, "Pause")
-    page.wait_for_timeout(500)
-    t_page = float(read(page, "t").split()[0])
+    t_page = float(paused_t(page).split()[0])
     assert t_page > 20.0  # it ran faster than real time (1000x asked; a loaded machine reaches less)
     page.get_by_text("File", exact=True).click()
     with page.expect_download() as info:

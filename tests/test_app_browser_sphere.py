@@ -7,7 +7,7 @@ the toggle. The server runs in this process (as tests/test_app_browser_scene.py)
 from __future__ import annotations
 
 import pytest
-from test_app_browser import UI_TIMEOUT, browser, read, wait_until  # noqa: F401 (browser: a fixture)
+from test_app_browser import UI_TIMEOUT, browser, paused_t, read, wait_until  # noqa: F401 (browser: a fixture)
 from test_app_browser_scene import FIXED_DPR, PIXEL_TOL, app, canvas_png, click, legend, session  # noqa: F401 (app: a fixture)
 
 from app.panel.energy_plot import END, SPINS, TITLE
@@ -116,7 +116,7 @@ def test_the_sphere_is_in_the_canvas_and_goes_with_the_toggle(page, app):  # noq
     path = s.drawing.sphere.path.points  # what the page was sent: segments on the sphere's radius
     assert len(path) > 5
     pause(page, s)
-    t_paused = read(page, "t")
+    t_paused = paused_t(page)
     # the path is sent at the plots' rate: the first picture must show all of it, or showing the sphere again
     # (which sends the whole path) would differ from it by the last segments
     wait_until(page, lambda: s.drawing.sphere._version == s.engine.sphere_path.version, "the whole path sent")
