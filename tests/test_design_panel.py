@@ -161,3 +161,18 @@ def test_the_status_line_sits_under_run_and_stop():
     key1.value = key2.value = "pendulum.k"
     panel.run_btn.fire()
     assert "chosen twice" in order[at + 3].content
+
+
+@pytest.mark.parametrize("raised, said", [
+    (KeyError("x"), "**Design failed:** KeyError: 'x'"),  # said as "'x'" alone before
+    (physics.ScenarioError("run.t_end", 5.0, "must be more"), "**Design failed:** run.t_end = 5.0: must be more"),
+])
+def test_a_design_that_fails_says_what_ended_it(monkeypatch, raised, said):
+    def fail(*_, **__):
+        raise raised
+
+    monkeypatch.setattr(physics, "design", fail)
+    panel, _, _ = _panel()
+    panel.run_btn.fire()
+    panel.thread.join(timeout=30)
+    assert panel.status.content == said and panel.result_md.content == said

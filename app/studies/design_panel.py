@@ -238,7 +238,8 @@ class DesignPanel:
             results_window.say_ended(self.status, self.result_md, "Stopped before the first run ended: there is no "
                                      "optimum to show. **Run design** starts again.", self.result is not None)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            results_window.say_ended(self.status, self.result_md, f"**Design failed:** {exc}", self.result is not None)
+            results_window.say_ended(self.status, self.result_md, f"**Design failed:** {results_window.failure(exc)}",
+                                     self.result is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
 

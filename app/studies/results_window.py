@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import weakref
 
+import physics
+
 _first: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # gui -> its first results window
 
 
@@ -46,3 +48,9 @@ def say_ended(status, window, text: str, has_result: bool) -> None:
     status.content = text
     if not has_result:
         window.content = text
+
+
+def failure(exc: BaseException) -> str:
+    """How a study's panel says what ended it: a ScenarioError in its own words (it names the parameter, the value
+    and what is allowed), anything else with its kind, since a bare message ("'x'" for a KeyError) says nothing."""
+    return str(exc) if isinstance(exc, physics.ScenarioError) else f"{type(exc).__name__}: {exc}"

@@ -150,7 +150,7 @@ class SpeedPanel:
             self.bar.value = 100.0
             self.scene_changed()  # the scene may have changed while the sweep ran
         except Exception as exc:  # noqa: BLE001 - a failed sweep is a message, not a dead thread
-            self._say(f"**Sweep failed:** {type(exc).__name__}: {exc}")
+            self._say(f"**Sweep failed:** {results_window.failure(exc)}")
         finally:
             self.run_btn.disabled = False
             self.stop_btn.disabled = True

@@ -244,8 +244,8 @@ class SweepPanel:
                                   progress=self._progress, stop=self.stop)
             self.show(table)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            why = str(exc) if isinstance(exc, physics.ScenarioError) else f"{type(exc).__name__}: {exc}"
-            results_window.say_ended(self.status, self.result_md, f"**Sweep failed:** {why}", self.table is not None)
+            results_window.say_ended(self.status, self.result_md, f"**Sweep failed:** {results_window.failure(exc)}",
+                                     self.table is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
 
