@@ -225,7 +225,8 @@ def test_the_status_line_sits_under_run_and_stop():
 def test_an_end_no_scene_can_take_is_refused_before_the_sweep_starts():
     """A user typed from = 5 kg for m in a 1 kg body: the sweep used to start and fail as
     "Sweep failed: ScenarioError: ...". It is refused at Run, in words, with no thread started."""
-    sc = physics.Scenario.load(ROOT / "assets" / "scenarios" / "oblate_settling.toml")
+    sc = physics.Scenario.load(ROOT / "assets" / "scenarios" / "oblate_settling.toml").with_values(
+        **{"run.t_end": 2.0})
     panel = SweepPanel(FakeGui(), lambda: sc, lambda s: None, executor="serial")
     panel.key1.value = "mass.m"
     panel.key1.fire()
@@ -234,3 +235,10 @@ def test_an_end_no_scene_can_take_is_refused_before_the_sweep_starts():
     said = panel.status.content
     assert panel.thread is None and said.startswith("**Cannot start:**"), said
     assert "mass.m = 5.0" in said and "must be less than body.M" in said and "ScenarioError" not in said
+    panel.n1.value = 1  # one point runs "from" alone: a "to" no scene can take is not in the sweep
+    panel.n1.fire()
+    panel.lo1.value, panel.hi1.value = 0.1, 5.0
+    panel.run_btn.fire()
+    assert panel.thread is not None, panel.status.content
+    panel.thread.join(timeout=120)
+    assert panel.table is not None and len(panel.table.rows) == 1

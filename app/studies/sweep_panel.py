@@ -194,7 +194,7 @@ class SweepPanel:
             self.refresh()
             raise physics.ScenarioError("parameter", self.key1.value, f"the scene is now a {sc.system}: the lists "
                                         "were updated; pick again")
-        vary = {}
+        vary, ends = {}, {}
         for key, lo, hi, n, log in ((self.key1.value, self.lo1, self.hi1, self.n1, self.log1),
                                     (self.key2.value, self.lo2, self.hi2, self.n2, self.log2)):
             if key == NONE:
@@ -206,11 +206,12 @@ class SweepPanel:
                 raise physics.ScenarioError(f"points of {key}", n.value, f"must be from 1 to {MAX_POINTS}")
             a, b = float(lo.value), float(hi.value)
             spec = ("log", a, b, count) if log.value else (a, b, count)
-            physics.axis_values(spec, key)  # a bad range is reported before anything starts
+            values, _ = physics.axis_values(spec, key)  # a bad range is reported before anything starts
             vary[scenario_key(key, sc.system)] = spec
+            ends[scenario_key(key, sc.system)] = {values[0], values[-1]}  # one point: "to" is not run
         if len(vary) < (2 if self.key2.value != NONE else 1):
             raise physics.ScenarioError("second parameter", self.key2.value, "must differ from the first")
-        for corner in itertools.product(*([(k, s[-3]), (k, s[-2])] for k, s in vary.items())):
+        for corner in itertools.product(*([(k, v) for v in sorted(e)] for k, e in ends.items())):
             sc.with_values(**dict(corner))  # an end no scene can take is refused here, not as a failed sweep
         return sc, vary, self.metric.value
 
