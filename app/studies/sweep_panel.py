@@ -208,11 +208,11 @@ class SweepPanel:
             spec = ("log", a, b, count) if log.value else (a, b, count)
             values, _ = physics.axis_values(spec, key)  # a bad range is reported before anything starts
             vary[scenario_key(key, sc.system)] = spec
-            ends[scenario_key(key, sc.system)] = {values[0], values[-1]}  # one point: "to" is not run
+            ends[scenario_key(key, sc.system)] = (values[0], values[-1])  # one point: "to" is not run
         if len(vary) < (2 if self.key2.value != NONE else 1):
             raise physics.ScenarioError("second parameter", self.key2.value, "must differ from the first")
-        for corner in itertools.product(*([(k, v) for v in sorted(e)] for k, e in ends.items())):
-            sc.with_values(**dict(corner))  # an end no scene can take is refused here, not as a failed sweep
+        for corner in itertools.product(*([(k, v) for v in e] for k, e in ends.items())):
+            physics.point_scenario(sc, dict(corner))  # an end no scene can take is refused here, as the sweep builds it
         return sc, vary, self.metric.value
 
     def start(self) -> threading.Thread | None:
