@@ -59,3 +59,9 @@ class FakeGui:
 
     def button(self, prefix):
         return next(h for h in self.handles if h.kind == "button" and h.label.startswith(prefix))
+
+
+def in_a_row(gui: FakeGui, *handles) -> bool:
+    """Whether ``handles`` were added to ``gui`` one after another, in this order (where the page shows them)."""
+    at = gui.handles.index(handles[0])
+    return gui.handles[at:at + len(handles)] == list(handles)

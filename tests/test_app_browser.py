@@ -165,17 +165,23 @@ def wait_until(page, predicate, what: str, timeout_ms: int = UI_TIMEOUT):
     pytest.fail(f"timed out waiting for {what}")
 
 
-def paused_t(page) -> str:
-    """The page's t once it holds, after a Pause: the page takes the server's messages once a frame (viser's client
-    reads them in its render loop), so right after the click it can still show an earlier t."""
-    last = read(page, "t")
+def held(page, key: str, other_than: str | None = None) -> str:
+    """The readout ``key`` once it holds for three frames (and is not ``other_than``): the page takes the server's
+    messages once a frame (viser's client reads them in its render loop), so right after a click it can still
+    show an earlier value."""
+    last = read(page, key)
     for _ in range(UI_TIMEOUT // (3 * FRAME_MS)):
         page.wait_for_timeout(3 * FRAME_MS)
-        now = read(page, "t")
-        if now == last:
+        now = read(page, key)
+        if now == last and now != other_than:
             return now
         last = now
-    pytest.fail(f"t did not hold after Pause: last {last}")
+    pytest.fail(f"{key} did not hold: last {last}")
+
+
+def paused_t(page) -> str:
+    """The page's t once it holds, after a Pause."""
+    return held(page, "t")
 
 
 def control_id(page, label: str) -> str:
@@ -294,12 +300,7 @@ def _theta_after_steps(page, steps: int) -> tuple[str, str]:
     wait_until(page, lambda: read(page, "t") == "0 s", "reset to t = 0")
     for _ in range(steps):
         click(page, "Step")
-    def settled():
-        t = read(page, "t")
-        page.wait_for_timeout(600)
-        return t if t != "0 s" and read(page, "t") == t else None
-
-    wait_until(page, settled, "the steps to be applied")
+    held(page, "t", other_than="0 s")  # the steps applied
     return read(page, "t"), read(page, "theta")
 
 

@@ -9,7 +9,7 @@ import pytest
 import physics
 
 pytest.importorskip("plotly")
-from fake_gui import FakeGui  # noqa: E402
+from fake_gui import FakeGui, in_a_row  # noqa: E402
 
 from app.engine.compare import SLIDERS, parse  # noqa: E402
 from app.studies.design_panel import BESIDE_SCENE, MAX_RUNS, NONE, DesignPanel  # noqa: E402
@@ -154,13 +154,11 @@ def test_the_status_line_sits_under_run_and_stop():
     gui = FakeGui()
     sc = _scene()
     panel = DesignPanel(gui, lambda: sc, lambda s: None, executor="serial")
-    order = gui.handles
-    at = order.index(panel.run_btn)
-    assert order[at:at + 4] == [panel.run_btn, panel.stop_btn, panel.bar, panel.status]
+    assert in_a_row(gui, panel.run_btn, panel.stop_btn, panel.bar, panel.status)
     (key1, _, _), (key2, _, _), _ = panel.slots
     key1.value = key2.value = "pendulum.k"
     panel.run_btn.fire()
-    assert "chosen twice" in order[at + 3].content
+    assert "chosen twice" in panel.status.content
 
 
 @pytest.mark.parametrize("raised, said", [

@@ -11,7 +11,7 @@ import pytest
 import physics
 
 pytest.importorskip("plotly")
-from fake_gui import FakeGui, Handle  # noqa: E402
+from fake_gui import FakeGui, Handle, in_a_row  # noqa: E402
 
 from app.studies import sweep_panel  # noqa: E402
 from app.studies.sweep_panel import MAX_POINTS, NONE, SweepPanel  # noqa: E402
@@ -214,12 +214,10 @@ def test_the_status_line_sits_under_run_and_stop():
     sc = _scene()
     gui = FakeGui()
     panel = SweepPanel(gui, lambda: sc, lambda s: None, executor="serial")
-    order = gui.handles
-    at = order.index(panel.run_btn)
-    assert order[at:at + 4] == [panel.run_btn, panel.stop_btn, panel.bar, panel.status]
+    assert in_a_row(gui, panel.run_btn, panel.stop_btn, panel.bar, panel.status)
     panel.key1.value = panel.key2.value = "pendulum.k"
     panel.run_btn.fire()
-    assert "Cannot start" in order[at + 3].content
+    assert "Cannot start" in panel.status.content
 
 
 def test_an_end_no_scene_can_take_is_refused_before_the_sweep_starts():
