@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from test_app_browser import browser, choose, open_page, read, readouts, set_slider, url, wait_until
+from test_app_browser import browser, choose, open_page, paused_t, read, readouts, set_slider, url, wait_until
 
 pytestmark = pytest.mark.browser
 __all__ = ["browser", "url"]  # module fixtures of tests/test_app_browser.py, started here for this module
@@ -33,16 +33,7 @@ def number(text: str) -> float:
 
 def paused(page) -> None:
     page.get_by_role("button", name="Pause", exact=True).click()
-    # paused once t stops moving (the browser sends one GUI message per 50 ms; a frame is 1/60 s)
-    last = {"t": None}
-
-    def still():
-        t = read(page, "t")
-        same, last["t"] = t == last["t"], t
-        return same
-
-    page.wait_for_timeout(300)
-    wait_until(page, still, "t to stop after Pause")
+    paused_t(page)  # t holds on the page: its last update can land a frame after the click
 
 
 def edit_line_after(page, key_value: tuple[str, float], previous: str | None) -> str:
