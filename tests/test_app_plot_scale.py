@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from app.panel.plot_scale import AxisScale, ScaleKeeper, choose
+from app.panel.plot_scale import AxisScale, ScaleKeeper, choose, y_range
 from app.panel.plots import INCRS
 
 CHART_PX = 90  # the smallest y extent of a chart in the panel (|K| and E: aspect 3.5)
@@ -96,3 +96,42 @@ def test_any_series_gets_good_ticks(center, rel, n):
     span = max(abs(center), 1e-6) * 10.0**rel
     y = center + span * np.sin(np.linspace(0.0, 3.0, n))
     check(y)
+
+
+MAGNITUDES = (0.0, 5e-324, 1e-323, 3e-322, 1e-310, 2.2250738585072014e-308, 1e-300, 1e-12, 1.0, 1e300, 1e308,
+              1.7976931348623157e308)
+VALUES = sorted({s * m for m in MAGNITUDES for s in (1.0, -1.0)})
+
+
+@pytest.mark.parametrize("lo", VALUES)
+def test_data_of_any_finite_magnitude_get_a_finite_plot_and_axis(lo):
+    """A hostile parameter (m = 5e-324, Omega = 1e308) gives a series of subnormal or huge values; the server's
+    storm once died here on 10.0**-324 == 0.0 (ZeroDivisionError). Every pair of values as the data, then every
+    other pair on the kept scale: no exception, finite plotted values and a finite axis around them."""
+    for hi in (v for v in VALUES if v >= lo):
+        keeper = ScaleKeeper()
+        for later in ((lo, hi), (hi, lo), *((a, b) for a in VALUES[::3] for b in VALUES[::4] if a <= b)):
+            y = np.array([later[0], later[0] / 2 + later[1] / 2, later[1]])  # no overflow midway
+            keeper.update(y)
+            plotted = keeper.scale.apply(y)
+            assert np.all(np.isfinite(plotted)), (later, keeper.scale, plotted)
+            bottom, top = y_range(float(plotted.min()), float(plotted.max()))
+            assert math.isfinite(bottom) and math.isfinite(top) and bottom < top, (later, bottom, top)
+            assert bottom <= plotted.min() and plotted.max() <= top
+            assert keeper.scale.label("E", "J").startswith("E")
+
+
+@pytest.mark.parametrize("bad", [math.inf, -math.inf, math.nan])
+def test_a_non_finite_value_in_the_data_raises_nothing(bad):
+    keeper = ScaleKeeper()
+    keeper.update(np.array([1.0, 2.0]))
+    keeper.update(np.array([1.0, bad]))  # a fault's last sample: the run stops on it, the chart must not
+    assert keeper.scale == AxisScale()
+    assert y_range(1.0, bad) == (-1.0, 1.0)
+
+
+@pytest.mark.parametrize("lo, hi", [(-1.7976931348623157e308, 1.7976931348623157e308), (1e308, 1e308),
+                                    (5e-324, 5e-324), (0.0, 5e-324), (-1e-320, 1e-320)])
+def test_the_axis_around_extreme_plotted_values_is_finite_and_holds_them(lo, hi):
+    bottom, top = y_range(lo, hi)
+    assert math.isfinite(bottom) and math.isfinite(top) and bottom < top and bottom <= lo and hi <= top

@@ -21,6 +21,8 @@ SPAN_MIN = 0.05  # plotted units: ticks 0.01 apart or more, exact with 3 decimal
 MAG_MAX = 1e4  # plotted units: labels of at most 4 digits before the point ("9,999")
 RATIO = 100.0  # largest plotted magnitude / plotted span: at most about 5 significant digits per label
 CONSTANT = 1e-12  # relative spread below which a series is constant (rounding noise of the integrator)
+EXP_MIN = -300  # smallest power of ten a scale divides by: 10.0**-324 is 0.0, and m = 5e-324 gives such data
+TINY = 1e-290  # a span below this is drawn as constant: no round step exists among subnormal numbers
 
 
 @dataclass(frozen=True)
@@ -48,6 +50,8 @@ class AxisScale:
         """Whether data spanning lo..hi still plot with good ticks under this scale, and no simpler scale
         (no reference, or no power of ten) would do. Its limits are looser than choose()'s: data that
         wander about a limit do not switch the scale back and forth."""
+        if not (math.isfinite(lo) and math.isfinite(hi) and math.isfinite(first)):
+            return False
         span, mag = hi - lo, max(abs(lo), abs(hi))
         if self.flat or _constant(span, mag):
             return self.flat and _constant(span, mag) and self.exp == _exp_for(mag)
@@ -70,7 +74,8 @@ def choose(lo: float, hi: float, first: float) -> AxisScale:
         if span >= SPAN_MIN and mag < MAG_MAX:
             return AxisScale()
         return AxisScale(exp=_eng(mag))
-    q = 10.0 ** math.floor(math.log10(span))  # nearly constant: subtract a round reference near the start
+    # nearly constant: subtract a round reference near the start
+    q = 10.0 ** max(math.floor(math.log10(span)), EXP_MIN)
     offset = float(round(first / q) * q)
     dev = max(abs(lo - offset), abs(hi - offset))  # at most span + q / 2 <= 1.5 span
     if span >= SPAN_MIN and dev < MAG_MAX:
@@ -106,15 +111,19 @@ def y_range(lo: float, hi: float) -> tuple[float, float]:
     line gets 10 % of its value (or 1) on each side. The server sets it (and the x extent): uPlot's own
     ranging of the x axis, under viser 1.1.1's zoom keeping, drifted off the data on a busy page (the
     plot showed t = 0..2 s at t = 13 s)."""
-    if not (math.isfinite(lo) and math.isfinite(hi)):
+    if not (math.isfinite(lo) and math.isfinite(hi)) or hi < lo:
         return -1.0, 1.0
-    if hi - lo <= CONSTANT * max(abs(lo), abs(hi)):
-        pad = 0.1 * abs(lo) or 1.0
+    given = (lo, hi) if lo < hi else (math.nextafter(lo, -math.inf), math.nextafter(hi, math.inf))
+    if hi - lo <= max(CONSTANT * max(abs(lo), abs(hi)), TINY):
+        pad = 0.1 * abs(lo) if abs(lo) > TINY else 1.0
         lo, hi = lo - pad, hi + pad
     span = hi - lo
+    if not math.isfinite(span):  # padding overflowed: values near 1e308
+        return given
     lo, hi = lo - 0.02 * span, hi + 0.02 * span
     step = _round_up((hi - lo) / 3)
-    return math.floor(lo / step) * step, math.ceil(hi / step) * step
+    out = math.floor(lo / step) * step, math.ceil(hi / step) * step
+    return out if math.isfinite(out[0]) and math.isfinite(out[1]) else given
 
 
 def _round_up(x: float) -> float:
@@ -134,7 +143,7 @@ def _exp_for(mag: float) -> int:
 
 def _eng(x: float) -> int:
     """The multiple of 3 at or below log10(x): the plotted magnitude is then 1 to 1000."""
-    return 3 * math.floor(math.log10(x) / 3)
+    return max(3 * math.floor(math.log10(x) / 3), EXP_MIN)
 
 
 def _short(x: float) -> str:
