@@ -91,6 +91,21 @@ def tracebacks(text: str) -> dict[str, int]:
     return out
 
 
+def traceback_text(text: str, limit: int = 3, width: int = 4000) -> str:
+    """The first ``limit`` tracebacks in ``text`` whole (each cut to ``width`` characters): a storm's failure
+    must say where it was raised, since the server's timing, unlike the storm, is not seeded."""
+    lines, out, i = text.splitlines(), [], 0
+    while i < len(lines) and len(out) < limit:
+        if "Traceback (most recent call last)" in lines[i]:
+            j = i + 1
+            while j < len(lines) and (not lines[j] or lines[j].startswith((" ", "Traceback", "During", "The above"))):
+                j += 1
+            out.append("\n".join(lines[i:j + 1])[:width])
+            i = j
+        i += 1
+    return "\n\n".join(out)
+
+
 @dataclass
 class Served:
     """A running ``python -m app``: its address, process and the lines it has printed so far."""
@@ -429,6 +444,7 @@ def run(seed: int = SEED, rounds: int = 1, settle: float = 6.0) -> dict:
         text = server.output
     out["tracebacks"] = text.count("Traceback (most recent call last)")
     out["by_exception"] = tracebacks(text)
+    out["traceback_text"] = traceback_text(text)
     out["seed"], out["rounds"] = seed, rounds
     return out
 

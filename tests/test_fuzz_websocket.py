@@ -31,7 +31,7 @@ def test_the_storm_reached_every_kind_of_message(storm):
 
 
 def test_the_server_prints_no_traceback(storm):
-    assert storm["tracebacks"] == 0, storm["by_exception"]
+    assert storm["tracebacks"] == 0, f"{storm['by_exception']}\n{storm['traceback_text']}"
 
 
 def test_the_server_stays_up_and_keeps_the_storms_connection(storm):
