@@ -159,6 +159,7 @@ def test_the_status_line_sits_under_run_and_stop():
     key1.value = key2.value = "pendulum.k"
     panel.run_btn.fire()
     assert "chosen twice" in panel.status.content
+    assert panel.result_md.content == panel.status.content  # the window, below the fold's line, says it too
 
 
 @pytest.mark.parametrize("raised, said", [

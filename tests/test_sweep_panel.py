@@ -218,6 +218,17 @@ def test_the_status_line_sits_under_run_and_stop():
     panel.key1.value = panel.key2.value = "pendulum.k"
     panel.run_btn.fire()
     assert "Cannot start" in panel.status.content
+    # at 1400x900 that line sits below the panel's fold: the window, with no result yet, says it too
+    assert panel.result_md.content == panel.status.content
+    panel.key2.value = NONE
+    panel.run_btn.fire()  # the next Run's news replaces the refusal there
+    assert panel.result_md.content.startswith("Running ") and panel.result_md.content == panel.status.content
+    panel.thread.join(timeout=60)
+    summary = panel.result_md.content
+    assert panel.table is not None and "Running" not in summary
+    panel.key2.value = "pendulum.k"
+    panel.run_btn.fire()  # a window with a result keeps it; the refusal is in the status line
+    assert "Cannot start" in panel.status.content and panel.result_md.content == summary
 
 
 def test_an_end_no_scene_can_take_is_refused_before_the_sweep_starts():

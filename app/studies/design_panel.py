@@ -199,7 +199,8 @@ class DesignPanel:
         try:
             sc, vary, objective, runs = self.request()
         except Exception as exc:  # noqa: BLE001 - shown, never raised into viser
-            self._say(f"**Cannot start:** {exc}")
+            results_window.say(self.status, self.result_md, f"**Cannot start:** {results_window.failure(exc)}",
+                               self.result is not None)
             return None
         self.stop.clear()
         self._live, self._running = [], objective
@@ -208,8 +209,9 @@ class DesignPanel:
         sliders = slider_map(sc.system)
         ranges = "; ".join(f"{controls.BY_KEY[sliders[k]].label} from {lo:.6g} to {hi:.6g}" for k, (lo, hi) in
                            vary.items())
-        self._say(f"Designing for the {design_view.GOAL_WORDS[physics.OBJECTIVES[objective]]} {objective}: "
-                  f"{ranges}, at most {runs} runs on local workers...")
+        results_window.say(self.status, self.result_md, f"Designing for the "
+                           f"{design_view.GOAL_WORDS[physics.OBJECTIVES[objective]]} {objective}: {ranges}, at most "
+                           f"{runs} runs on local workers...", self.result is not None)
         self.thread = threading.Thread(target=self._work, args=(sc, vary, objective, runs), name="design",
                                        daemon=True)
         self.thread.start()
@@ -235,10 +237,10 @@ class DesignPanel:
                                     progress=self._progress, stop=self.stop)
             self.show(result)
         except physics.DesignStopped:
-            results_window.say_ended(self.status, self.result_md, "Stopped before the first run ended: there is no "
+            results_window.say(self.status, self.result_md, "Stopped before the first run ended: there is no "
                                      "optimum to show. **Run design** starts again.", self.result is not None)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            results_window.say_ended(self.status, self.result_md, f"**Design failed:** {results_window.failure(exc)}",
+            results_window.say(self.status, self.result_md, f"**Design failed:** {results_window.failure(exc)}",
                                      self.result is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True

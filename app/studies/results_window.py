@@ -41,10 +41,12 @@ def results_tab(gui, label: str):
     return tab
 
 
-def say_ended(status, window, text: str, has_result: bool) -> None:
-    """A study that ended with no result: said in its status line and, while its window shows no earlier result,
-    in the window too, which would otherwise go on inviting a run: the window is where the eye goes once a study
-    is started, and at 1024x768 it is the only part of the study in sight beside Run and Stop."""
+def say(status, window, text: str, has_result: bool) -> None:
+    """A study's news while its window shows no result (a start refused, a run under way, a run that ended with
+    nothing): said in its status line and in the window too, which would otherwise go on inviting a run or show
+    news that is over. The window is where the eye goes once Run is pressed: at 1024x768 it is the only part of
+    the study in sight beside Run and Stop, and at 1400x900 the status line sits below the panel's fold. A window
+    that shows a result keeps it; the news is then in the status line only."""
     status.content = text
     if not has_result:
         window.content = text

@@ -224,14 +224,16 @@ class SweepPanel:
             sc, vary, metric = self.request()
             n = math.prod(spec[-1] for spec in vary.values())
         except Exception as exc:  # noqa: BLE001 - shown, never raised into viser
-            self._say(f"**Cannot start:** {exc}")
+            results_window.say(self.status, self.result_md, f"**Cannot start:** {results_window.failure(exc)}",
+                               self.table is not None)
             return None
         self.stop.clear()
         self.bar.value = 0.0
         self.run_btn.disabled, self.stop_btn.disabled = True, False
         ranges = "; ".join(f"{k.split('.', 1)[1]} from {s[-3]:.6g} to {s[-2]:.6g} ({s[-1]} points"
                            + (", log" if len(s) == 4 else "") + ")" for k, s in vary.items())
-        self._say(f"Running {n} simulations on local workers: {ranges}...")
+        results_window.say(self.status, self.result_md, f"Running {n} simulations on local workers: {ranges}...",
+                           self.table is not None)
         self.thread = threading.Thread(target=self._work, args=(sc, vary, metric), name="sweep", daemon=True)
         self.thread.start()
         return self.thread
@@ -245,7 +247,7 @@ class SweepPanel:
                                   progress=self._progress, stop=self.stop)
             self.show(table)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            results_window.say_ended(self.status, self.result_md, f"**Sweep failed:** {results_window.failure(exc)}",
+            results_window.say(self.status, self.result_md, f"**Sweep failed:** {results_window.failure(exc)}",
                                      self.table is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
