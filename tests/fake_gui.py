@@ -1,5 +1,5 @@
-"""Just enough of viser's GUI for headless panel tests (app/studies/speed_panel.py, app/studies/sweep_panel.py): widgets
-are recorded, and a test fires their callbacks."""
+"""Just enough of viser's GUI for headless panel tests (app/studies/speed_panel.py, app/studies/sweep_panel.py,
+app/panel/plots.py): widgets are recorded, and a test fires their callbacks."""
 
 from __future__ import annotations
 
@@ -51,6 +51,11 @@ class FakeGui:
 
     def add_progress_bar(self, value, **kw):
         return self._add(Handle("progress", value=value))
+
+    def add_uplot(self, data, series, title="", visible=True, **kw):
+        h = self._add(Handle("uplot", title))
+        h.data, h.series, h.title, h.visible, h.scales = data, series, title, visible, kw.get("scales")
+        return h
 
     def add_plotly(self, figure, **kw):
         h = self._add(Handle("plotly", figure=figure))

@@ -134,3 +134,31 @@ def test_overlay_after_an_edit_is_of_the_scene_at_t0_and_says_so():
     assert e.overlay[0][0] == 0.0
     np.testing.assert_array_equal(e.overlay[1], before[1])  # the prediction of the run's start
     assert "for the scene at t = 0 (edited since: " in e.overlay_title()
+
+
+@pytest.mark.parametrize("system", ["plane_pendulums", "wheel", "spherical_pendulum"])
+def test_a_subnormal_nutation_is_charted_without_raising(system):
+    """theta0 = 1e-320 on these systems gives a theta series of subnormal values; the charts' scale took
+    10.0**-324 == 0.0 for its power of ten and raised ZeroDivisionError in the tab's loop (found by replaying the
+    websocket storm's values through the engine, slider by slider, on every system). The real engine, the real
+    charts on a fake gui: every plotted number and every axis end finite."""
+    from fake_gui import FakeGui
+
+    from app.panel.plots import build_plots, update_plots
+
+    e = Engine()
+    e.request("system", system)
+    ticks(e, 1)
+    e.request_value("initial.theta0", 1e-320)
+    ticks(e, 1)
+    assert e.scenario.system == system and e.scenario.initial.theta0 == 1e-320
+    gui = FakeGui()
+    charts = build_plots(gui, e.plot_data())
+    for _ in range(6):
+        ticks(e, 1)
+        update_plots(charts, e.plot_data())
+    theta = e.plot_data()[1]
+    assert 0 < np.max(np.abs(theta)) < 1e-300  # the case: a subnormal series that varies
+    for h in (h for h in gui.handles if h.kind == "uplot" and h.visible):
+        assert all(np.all(np.isfinite(np.asarray(y, dtype=float))) for y in h.data), h.title
+        assert h.scales is not None and all(np.isfinite(h.scales["y"]["range"])), (h.title, h.scales)
