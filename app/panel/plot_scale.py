@@ -21,7 +21,7 @@ SPAN_MIN = 0.05  # plotted units: ticks 0.01 apart or more, exact with 3 decimal
 MAG_MAX = 1e4  # plotted units: labels of at most 4 digits before the point ("9,999")
 RATIO = 100.0  # largest plotted magnitude / plotted span: at most about 5 significant digits per label
 CONSTANT = 1e-12  # relative spread below which a series is constant (rounding noise of the integrator)
-EXP_MIN = -300  # smallest power of ten a scale divides by: 10.0**-324 is 0.0, and m = 5e-324 gives such data
+EXP_MIN = -300  # smallest power of ten a scale divides by: 10.0**-324 is 0.0, and theta0 = 1e-320 gives such data
 TINY = 1e-290  # a span below this is drawn as constant: no round step exists among subnormal numbers
 
 

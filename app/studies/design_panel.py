@@ -238,10 +238,10 @@ class DesignPanel:
             self.show(result)
         except physics.DesignStopped:
             results_window.say(self.status, self.result_md, "Stopped before the first run ended: there is no "
-                                     "optimum to show. **Run design** starts again.", self.result is not None)
+                               "optimum to show. **Run design** starts again.", self.result is not None)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
             results_window.say(self.status, self.result_md, f"**Design failed:** {results_window.failure(exc)}",
-                                     self.result is not None)
+                               self.result is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
 

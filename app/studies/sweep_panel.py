@@ -248,7 +248,7 @@ class SweepPanel:
             self.show(table)
         except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
             results_window.say(self.status, self.result_md, f"**Sweep failed:** {results_window.failure(exc)}",
-                                     self.table is not None)
+                               self.table is not None)
         finally:
             self.run_btn.disabled, self.stop_btn.disabled = False, True
 
