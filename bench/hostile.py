@@ -78,32 +78,31 @@ def _children_rss(pid: int) -> int:
     return sum(_rss(int(k)) for k in kids)
 
 
-def tracebacks(text: str) -> dict[str, int]:
-    """The exception line ending each traceback in ``text``, with its count."""
+def _traceback_blocks(text: str) -> list[list[str]]:
+    """Each traceback in ``text`` as its lines, from "Traceback (most recent call last)" to the exception line."""
     lines = text.splitlines()
-    out: dict[str, int] = {}
+    out = []
     for i, line in enumerate(lines):
         if "Traceback (most recent call last)" in line:
-            for nxt in lines[i + 1:]:
-                if nxt and not nxt.startswith((" ", "Traceback")):
-                    out[nxt[:120]] = out.get(nxt[:120], 0) + 1
-                    break
+            end = next((j for j in range(i + 1, len(lines))
+                        if lines[j] and not lines[j].startswith((" ", "Traceback"))), None)
+            if end is not None:
+                out.append(lines[i:end + 1])
+    return out
+
+
+def tracebacks(text: str) -> dict[str, int]:
+    """The exception line ending each traceback in ``text``, with its count."""
+    out: dict[str, int] = {}
+    for block in _traceback_blocks(text):
+        out[block[-1][:120]] = out.get(block[-1][:120], 0) + 1
     return out
 
 
 def traceback_text(text: str, limit: int = 3, width: int = 4000) -> str:
     """The first ``limit`` tracebacks in ``text`` whole (each cut to ``width`` characters): a storm's failure
     must say where it was raised, since the server's timing, unlike the storm, is not seeded."""
-    lines, out, i = text.splitlines(), [], 0
-    while i < len(lines) and len(out) < limit:
-        if "Traceback (most recent call last)" in lines[i]:
-            j = i + 1
-            while j < len(lines) and (not lines[j] or lines[j].startswith((" ", "Traceback", "During", "The above"))):
-                j += 1
-            out.append("\n".join(lines[i:j + 1])[:width])
-            i = j
-        i += 1
-    return "\n\n".join(out)
+    return "\n\n".join("\n".join(block)[:width] for block in _traceback_blocks(text)[:limit])
 
 
 @dataclass

@@ -3,6 +3,8 @@ app/panel/plots.py): widgets are recorded, and a test fires their callbacks."""
 
 from __future__ import annotations
 
+import numpy as np
+
 
 class Handle:
     """Just enough of a viser handle: a value, options, flags and callbacks fired by the test."""
@@ -64,6 +66,13 @@ class FakeGui:
 
     def button(self, prefix):
         return next(h for h in self.handles if h.kind == "button" and h.label.startswith(prefix))
+
+
+def chart_finite(h: Handle) -> bool:
+    """Whether a uPlot chart's plotted numbers, and its y axis's ends once the data first set them, are finite."""
+    y_axis = (h.scales or {}).get("y")
+    return (all(np.all(np.isfinite(np.asarray(y, dtype=float))) for y in h.data)
+            and (y_axis is None or bool(np.all(np.isfinite(y_axis["range"])))))
 
 
 def in_a_row(gui: FakeGui, *handles) -> bool:

@@ -9,9 +9,11 @@ import re
 
 import numpy as np
 import pytest
+from fake_gui import FakeGui, chart_finite
 
 import physics
 from app.engine import engine as engine_module
+from app.panel.plots import build_plots, update_plots
 from app.state import FRAME_HZ, PLOT_POINTS, SAMPLES_PER_FRAME, Engine
 
 pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
@@ -142,10 +144,6 @@ def test_a_subnormal_nutation_is_charted_without_raising(system):
     10.0**-324 == 0.0 for its power of ten and raised ZeroDivisionError in the tab's loop (found by replaying the
     websocket storm's values through the engine, slider by slider, on every system). The real engine, the real
     charts on a fake gui: every plotted number and every axis end finite."""
-    from fake_gui import FakeGui
-
-    from app.panel.plots import build_plots, update_plots
-
     e = Engine()
     e.request("system", system)
     ticks(e, 1)
@@ -160,5 +158,5 @@ def test_a_subnormal_nutation_is_charted_without_raising(system):
     theta = e.plot_data()[1]
     assert 0 < np.max(np.abs(theta)) < 1e-300  # the case: a subnormal series that varies
     for h in (h for h in gui.handles if h.kind == "uplot" and h.visible):
-        assert all(np.all(np.isfinite(np.asarray(y, dtype=float))) for y in h.data), h.title
-        assert h.scales is not None and all(np.isfinite(h.scales["y"]["range"])), (h.title, h.scales)
+        assert h.scales is not None and "y" in h.scales, h.title  # the axis was set from the data
+        assert chart_finite(h), (h.title, h.scales)
