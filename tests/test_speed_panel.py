@@ -3,6 +3,8 @@ physics.work_precision for real on a short scene, or a stand-in where a failure 
 
 from __future__ import annotations
 
+import threading
+
 import pytest
 
 import physics
@@ -87,3 +89,63 @@ def test_panel_module_uses_only_physics_exports():
         if isinstance(node, ast.ImportFrom) and node.module:
             assert not node.module.startswith("physics."), node.module
     assert hasattr(physics, "WorkPrecision") and hasattr(physics, "WorkPrecisionRow")
+
+
+def test_a_failed_sweep_after_a_good_one_says_the_chart_is_the_earlier_sweep_s_and_keeps_it_usable():
+    """The chart and the Use button still hold the first sweep's result when a second one fails; the status line,
+    which replaces that result's summary, must say so and keep the summary, and the button must work again."""
+    gui, applied = FakeGui(), []
+    scene = _scene()
+    first = physics.work_precision(scene)
+    calls = []
+    gate = threading.Event()
+
+    def sweep(sc, progress=None, cancel=None):
+        calls.append(sc)
+        if len(calls) == 1:
+            return first
+        gate.wait(JOIN_S)
+        raise RuntimeError("kernel exploded")
+
+    panel = SpeedPanel(gui, lambda: scene, applied.append, sweep=sweep)
+    panel.start().join(JOIN_S)
+    use = gui.button("Use recommended")
+    assert first.recommended is not None and not use.disabled
+    shown = panel.plot.figure
+    label = use.label
+    second = panel.start()
+    assert "Sweeping" in panel.status.content and "earlier sweep" in panel.status.content
+    assert "Recommended" in panel.status.content and use.disabled
+    panel.scene_changed()  # the session calls this on every scene change, also while the sweep runs
+    assert "Sweeping" in panel.status.content and use.disabled
+    gate.set()
+    second.join(JOIN_S)
+    text = panel.status.content
+    assert "Sweep failed" in text and "kernel exploded" in text
+    assert "earlier sweep" in text and "Recommended" in text  # the result still on the chart is named
+    assert panel.plot.figure is shown and use.label == label and not use.disabled
+    use.fire()
+    assert len(applied) == 1 and applied[0].run.method == first.recommended.method
+
+
+def test_a_failed_sweep_after_a_good_one_on_a_changed_scene_says_stale():
+    gui = FakeGui()
+    scenes = [_scene()]
+    first = physics.work_precision(scenes[0])
+    outcomes = iter([first, RuntimeError("kernel exploded")])
+
+    def sweep(sc, progress=None, cancel=None):
+        out = next(outcomes)
+        if isinstance(out, Exception):
+            raise out
+        return out
+
+    panel = SpeedPanel(gui, lambda: scenes[-1], lambda sc: None, sweep=sweep)
+    panel.start().join(JOIN_S)
+    scenes.append(scenes[0].with_values(**{"mass.m": scenes[0].mass.m * 2}))
+    panel.scene_changed()
+    assert panel.stale
+    panel.start().join(JOIN_S)
+    text = panel.status.content
+    assert "Sweep failed" in text and "Stale" in text and "earlier sweep" in text
+    assert gui.button("Use recommended").disabled

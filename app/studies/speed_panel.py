@@ -26,6 +26,9 @@ METHOD_NAMES = {"auto": "DOP853 (compiled, adaptive)", "RK4": "RK4 (compiled)", 
                 "midpoint": "implicit midpoint (compiled)"}
 ERROR_FLOOR = 1e-16  # rad: a zero error is drawn here on the log axis
 STALE = "**Stale:** the scene has changed since this sweep; run it again for the current scene."
+# while a new sweep runs or after it failed, the chart and the button still hold the last sweep's result: the
+# status line, which replaces that result's summary, says whose they are
+EARLIER = "  \nThe chart and the button below are the earlier sweep's:  \n"
 
 
 def setting_text(row: physics.WorkPrecisionRow) -> str:
@@ -126,7 +129,7 @@ class SpeedPanel:
         self.run_btn.disabled = True
         self.stop_btn.disabled = False
         self.use_btn.disabled = True
-        self._say("Sweeping ...")
+        self._say("Sweeping ..." + (EARLIER + summary(self.result) if self.result is not None else ""))
         self.thread = threading.Thread(target=self._work, args=(sc,), name="speed-vs-accuracy", daemon=True)
         self.thread.start()
         return self.thread
@@ -150,7 +153,12 @@ class SpeedPanel:
             self.bar.value = 100.0
             self.scene_changed()  # the scene may have changed while the sweep ran
         except Exception as exc:  # noqa: BLE001 - a failed sweep is a message, not a dead thread
-            self._say(f"**Sweep failed:** {results_window.failure(exc)}")
+            failed = f"**Sweep failed:** {results_window.failure(exc)}"
+            if self.result is None:
+                self._say(failed)
+            else:  # the chart still shows the earlier sweep: say so, with its summary, and let it be used again
+                self._say(failed + EARLIER + (STALE + "  \n" if self.stale else "") + summary(self.result))
+                self.use_btn.disabled = self.stale or self.result.recommended is None
         finally:
             self.run_btn.disabled = False
             self.stop_btn.disabled = True
@@ -169,8 +177,12 @@ class SpeedPanel:
             if stale != self.stale:
                 self.stale = stale
                 self.plot.figure = figure(self.result, stale=stale)
-                self._say((STALE + "  \n" if stale else "") + summary(self.result))
-                self.use_btn.disabled = stale or self.result.recommended is None
+                # a new sweep under way has its own news (the sweep's own thread calls this once it has ended)
+                running = (self.thread is not None and self.thread.is_alive()
+                           and self.thread is not threading.current_thread())
+                self._say(("Sweeping ..." + EARLIER if running else "") + (STALE + "  \n" if stale else "")
+                          + summary(self.result))
+                self.use_btn.disabled = running or stale or self.result.recommended is None
         except Exception:  # noqa: BLE001 - a scenario being swapped out: judged again at the next change
             pass
 
