@@ -246,7 +246,10 @@ def test_speed_chart_leaves_room_legend_below_no_toolbar():
     from app.studies.speed_panel import figure
 
     fig = figure(result)
-    assert fig.layout.legend.orientation == "h" and fig.layout.legend.y < 0
+    legend = fig.layout.legend
+    # at the figure's foot, whatever the plot's height, below the tick labels and axis title the margin holds
+    assert legend.orientation == "h" and legend.yref == "container" and legend.y == 0 and legend.yanchor == "bottom"
+    assert fig.layout.margin.b >= 100
     assert fig.layout.xaxis.dtick == 1  # one tick a decade
     label = next(a for a in fig.layout.annotations if a.text == "requested")
     assert label.y == pytest.approx(math.log10(result.tolerance))  # on the dashed line (log axis: the exponent)

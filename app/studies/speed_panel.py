@@ -24,6 +24,9 @@ from .stale import RUN_SETTINGS, same_scene
 NOTHING_YET = "Use recommended: (run the sweep first)"
 METHOD_NAMES = {"auto": "DOP853 (compiled, adaptive)", "RK4": "RK4 (compiled)", "RK8": "RK8 (compiled)",
                 "midpoint": "implicit midpoint (compiled)"}
+# the chart's legend: short names, two to a row (the summary above names them in full); with the
+# long names the legend took a row each and ran into the axis title in a window ~300 px wide
+LEGEND_NAMES = {"auto": "DOP853", "RK4": "RK4", "RK8": "RK8", "midpoint": "implicit midpoint"}
 ERROR_FLOOR = 1e-16  # rad: a zero error is drawn here on the log axis
 STALE = "**Stale:** the scene has changed since this sweep; run it again for the current scene."
 # while a new sweep runs or after it failed, the chart and the button still hold the last sweep's result: the
@@ -46,7 +49,7 @@ def figure(result: physics.WorkPrecision | None, stale: bool = False):
             rows = sorted((r for r in result.rows if r.method == method), key=lambda r: r.wall_s)
             fig.add_trace(go.Scatter(
                 x=[r.wall_s for r in rows], y=[max(r.error, ERROR_FLOOR) for r in rows], mode="lines+markers",
-                name=METHOD_NAMES.get(method, method), text=[setting_text(r) for r in rows],
+                name=LEGEND_NAMES.get(method, method), text=[setting_text(r) for r in rows],
                 hovertemplate="%{text}<br>error %{y:.3g} rad<br>%{x:.3g} s<extra></extra>"))
         if math.isfinite(result.tolerance) and result.tolerance > 0:
             fig.add_hline(y=result.tolerance, line_dash="dash", line_color="gray")
@@ -62,8 +65,12 @@ def figure(result: physics.WorkPrecision | None, stale: bool = False):
     # one tick a decade, written as powers of ten: short labels that cannot run into each other
     fig.update_xaxes(type="log", title_text="wall time (s)", dtick=1, exponentformat="power")
     fig.update_yaxes(type="log", title_text="theta error (rad)", dtick=2, exponentformat="power")
-    fig.update_layout(margin={"l": 60, "r": 10, "t": 28 if stale else 10, "b": 110},  # room for the legend
-                      legend={"orientation": "h", "x": 0.0, "y": -0.2, "yanchor": "top", "font": {"size": 10}},
+    # the legend at the figure's foot (container coordinates), below the axis title: placed in the plot's own
+    # coordinates it moved with the plot's height and overlapped the title in a small window
+    fig.update_layout(margin={"l": 60, "r": 10, "t": 28 if stale else 10, "b": 100},
+                      legend={"orientation": "h", "x": 0.0, "xref": "container", "y": 0.0, "yref": "container",
+                              "yanchor": "bottom", "entrywidth": 0.5, "entrywidthmode": "fraction",
+                              "font": {"size": 10}},
                       title={"text": "STALE: the scene changed since this sweep" if stale else "",
                              "font": {"size": 12}})
     return fig
@@ -106,7 +113,7 @@ class SpeedPanel:
         with tab if tab is not None else contextlib.nullcontext():
             self.status = gui.add_markdown("Run the sweep: its chart and recommendation appear here.")
             # aspect is height / width in viser's browser side (see sweep_panel.py); room below for the legend
-            self.plot = gui.add_plotly(figure(None), aspect=0.72, config={"displayModeBar": False})
+            self.plot = gui.add_plotly(figure(None), aspect=0.85, config={"displayModeBar": False})
             self.use_btn = gui.add_button(NOTHING_YET, disabled=True)
         self.run_btn.on_click(lambda _: self.start())
         self.stop_btn.on_click(lambda _: self.cancel.set())
