@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+import physics
 from bench.pendulum_ceiling import ACCURACIES, main
 from physics.systems.pendulum.accuracy import SAFETY, SAFETY_LINEAR
 
@@ -55,3 +56,17 @@ def test_the_ceiling_takes_at_least_the_products_share_with_no_violation(run):
         assert c[f"{a:g}"]["oracle"] == s["product"][f"{a:g}"]["oracle"] == sum(
             float(o["actual"]) <= a for o in out)
     assert (tmp / "pendulum_ceiling.png").stat().st_size > 0 and "machine" in meta
+
+
+def test_the_hardening_form_is_third_order_in_the_nutation(run):
+    """The swing-following detuning is SWING_SHIFT omega_0 |Ut|^2 with Ut proportional to theta0, and theta moves
+    by it at first order: halving theta0 divides the hardening gap by 8 (to the integrator's 1e-9), where a gap
+    that did not follow the swing (or followed it at the wrong power) would divide by 2 or 4."""
+    from bench.pendulum_ceiling import hardening_gap
+
+    rows, out, _, _ = run
+    sc = physics.Scenario.from_dict(json.loads(rows[0]["scenario"]))
+    th = sc.initial.theta0
+    gaps = [hardening_gap(sc.with_values(**{"initial.theta0": th * f})) for f in (0.1, 0.05)]
+    assert float(out[0]["hardening"]) > 0 and gaps[1] > 0
+    assert gaps[0] / gaps[1] == pytest.approx(8.0, rel=0.03)
