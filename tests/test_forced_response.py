@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -104,3 +105,43 @@ def test_a_resting_mass_whose_wobble_dies_slowly_gets_an_estimate_that_holds():
     actual = float(np.max(np.abs(np.interp(full.t, closed.t, closed.theta) - full.theta)))
     stated = accuracy.averaged_error_bound(sc)
     assert actual <= stated <= 1.1 * accuracy.forced_safety(sc) * actual, (actual, stated)
+
+
+class _TooManyCalls(Exception):
+    pass
+
+
+def test_the_predictions_cost_does_not_grow_with_the_horizon(monkeypatch):
+    """auto's choice integrates the predicted slow equation over the run's whole horizon. Once theta_G has settled
+    at the steady spin that equation is stiff: an explicit method's steps stop growing and its cost grew with t_end
+    (t_end = 1e15 s on oblate_settling: minutes inside ``derived``). Counted, not timed: the right-hand side is
+    called a bounded number of times however long (or short: LSODA never returned on 1e-300 s) the horizon, and
+    the prediction ends at the steady spin."""
+    calls = []
+    real = forced_response.solve_ivp
+
+    def counted(fun, *args, **kw):
+        calls.append(0)
+
+        def f(s, y):
+            calls[-1] += 1
+            if calls[-1] > 20_000:
+                raise _TooManyCalls(f"over 20000 calls for a horizon of {args[0][1]:.3g} s")
+            return fun(s, y)
+
+        return real(f, *args, **kw)
+
+    monkeypatch.setattr(forced_response, "solve_ivp", counted)
+    sc = physics.Scenario.load(Path(__file__).resolve().parent.parent / "assets" / "scenarios" / "oblate_settling.toml")
+    used = {}
+    for t_end in (1e-300, 60.0, 1e8, 1e15, 1e100):
+        calls.clear()
+        s = sc.with_values(**{"run.t_end": t_end})
+        closed = physics.simulate(s, fidelity="closed")
+        theta = forced_response.predicted_theta(s, np.asarray(closed.t), np.asarray(closed.theta),
+                                                np.asarray(closed.K))
+        used[t_end] = sum(calls)
+        assert calls and np.all(np.isfinite(theta))
+        if t_end >= 1e8:  # long past the settling (tens of seconds): at the steady spin about the axis of C, to
+            assert theta[-1] < 1e-5 * theta[0]  # the rate table's floor (its grid starts 1e-6 rad from the axis)
+    assert max(used.values()) <= forced_response.MAX_CALLS / 10, used  # far from the cap: the cap is not the fix
