@@ -18,6 +18,9 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from physics.core.budget import MAX_STEPS
+from physics.core.guarded import guarded
+
 # Taylor terms of G(s) used by momentum_power_integral for lam t < 1: the coefficient of s^j in G^n,
 # scaled by t^j, is below n^j / j! times G0^n, so 60 terms leave < 1e-30 for n <= 6.
 _TAYLOR_TERMS = 60
@@ -172,8 +175,9 @@ def _along_13(t, theta0, G0, b, lam, A, C, H, D, rates: Sequence[Callable] = (),
             cs = sign * math.sqrt(cs2)
             return [du] + [f(G, cs, sn) for f in rates]
 
-        sol = solve_ivp(rhs, (0.0, te[-1]), [u0] + [0.0] * k, method="DOP853", t_eval=te,
-                        rtol=rtol, atol=_ODE_ATOL)
+        # guarded: a right side that overflows (initial.G0 = 1e300, body.C = 1e-300) made solve_ivp loop for good
+        sol = solve_ivp(guarded(rhs, MAX_STEPS, "seed 004 eq. (13)"), (0.0, te[-1]), [u0] + [0.0] * k,
+                        method="DOP853", t_eval=te, rtol=rtol, atol=_ODE_ATOL)
         if sol.status != 0:
             raise RuntimeError(f"integration of seed 004 eq. (13) failed: {sol.message}")
         Y = sol.y

@@ -34,6 +34,7 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline, RectBivariateSpline
 
 from physics.compiled import dop853
+from physics.core.guarded import RightSideError, guarded
 from physics.core.tolerance import atol_for
 from physics.registry import get_model
 from physics.scenario.scenario import Scenario
@@ -244,9 +245,10 @@ def _predicted(sc: Scenario, t: np.ndarray, cheap_theta: np.ndarray, cheap_G: np
         # (t_end = 1e15 s on oblate_settling ran for minutes inside auto's choice). Not LSODA: it never returned on
         # a horizon of 1e-300 s. The cap is the bound for whatever input still finds a way to crawl
         try:
-            sol = solve_ivp(_capped(lambda _s, y: spline(y)), (t0, float(t[-1])), [thG0], t_eval=t[later],
-                            rtol=1e-10, atol=1e-12, method="Radau", jac=lambda _s, y: [[float(slope(y[0]))]])
-        except _Crawling:
+            sol = solve_ivp(guarded(lambda _s, y: spline(y), MAX_CALLS, "the predicted slow motion"),
+                            (t0, float(t[-1])), [thG0], t_eval=t[later], rtol=1e-10, atol=1e-12, method="Radau",
+                            jac=lambda _s, y: [[float(slope(y[0]))]])
+        except RightSideError:
             return np.full(t.shape, np.nan), None
         if not sol.success:
             return np.full(t.shape, np.nan), None
@@ -256,23 +258,6 @@ def _predicted(sc: Scenario, t: np.ndarray, cheap_theta: np.ndarray, cheap_G: np
     if early is not None:
         out[~later] = np.interp(t[~later], *early)
     return out, early
-
-
-class _Crawling(Exception):
-    """A prediction's integration took more than MAX_CALLS right-hand sides: it cannot be made (NaN)."""
-
-
-def _capped(fun):
-    calls = 0
-
-    def capped(s, y):
-        nonlocal calls
-        calls += 1
-        if calls > MAX_CALLS:
-            raise _Crawling
-        return fun(s, y)
-
-    return capped
 
 
 def _varying_K(sc: Scenario, t: np.ndarray, t0: float, g0: float, thG0: float, grid: np.ndarray,
@@ -293,9 +278,9 @@ def _varying_K(sc: Scenario, t: np.ndarray, t0: float, g0: float, thG0: float, g
 
     stopped.terminal = True
     try:
-        sol = solve_ivp(_capped(rhs), (t0, float(t[-1])), [g0, thG0], rtol=1e-10, atol=1e-12, method="DOP853",
-                        dense_output=True, events=stopped)
-    except _Crawling:
+        sol = solve_ivp(guarded(rhs, MAX_CALLS, "the predicted slow motion"), (t0, float(t[-1])), [g0, thG0],
+                        rtol=1e-10, atol=1e-12, method="DOP853", dense_output=True, events=stopped)
+    except RightSideError:
         return np.full(t.shape, np.nan)
     if sol.status < 0 or sol.sol is None:
         return np.full(t.shape, np.nan)

@@ -46,6 +46,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from physics.core.guarded import RightSideError, guarded
 from physics.scenario.initial import initial_G
 from physics.systems.pendulum.averaged import AveragedCoefficients, averaged_theta
 from physics.systems.pendulum.geometry import pendulum_system
@@ -72,6 +73,7 @@ POINTS_PER_TURN = 8  # grid points per period of the fastest linear frequency, t
 MIN_POINTS, MAX_POINTS = 2001, 40001  # the grid's size: the slow envelope always, the ripple while affordable
 POLHODE_TURNS = 4  # free-nutation turns over which polhode_gap reads theta's extremes (they come in each turn)
 POLHODE_MAX_TURNS = 100  # the most turns of its fastest rate the exact free motion may take over them (the study's ~10)
+POLHODE_MAX_CALLS = 1_000_000  # right sides for those turns (DOP853 at rtol 1e-11 takes some hundreds a turn)
 
 
 @dataclass(frozen=True)
@@ -179,7 +181,11 @@ def polhode_gap(p: SphericalLinear, wx: float, wy: float, t_end: float) -> float
     def euler(_, w):
         return [(B - C) / A * w[1] * w[2], (C - A) / B * w[2] * w[0], (A - B) / C * w[0] * w[1]]
 
-    sol = solve_ivp(euler, (0.0, span), [wx, wy, W], method="DOP853", rtol=1e-11, atol=1e-14 * size, t_eval=t)
+    try:  # guarded: products of huge rates overflow, and solve_ivp loops for good on a right side that is not finite
+        sol = solve_ivp(guarded(euler, POLHODE_MAX_CALLS, "the frozen carrier's free nutation"), (0.0, span),
+                        [wx, wy, W], method="DOP853", rtol=1e-11, atol=1e-14 * size, t_eval=t)
+    except RightSideError:
+        return math.inf
     if not sol.success:
         return math.inf
     w = sol.y
