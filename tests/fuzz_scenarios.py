@@ -94,6 +94,20 @@ def generate(seed: int = 17, extra_random: int = 60) -> list[tuple[str, str]]:
             put(data, path, value)
             data["run"]["samples"] = 11  # the key's effect, not the output size, is under test here
             out.append((f"t{n}:{path}={value!r}", to_toml(data)))
+    # the same keys again at fidelity closed on the moving-mass templates: a closed form integrates its own slow
+    # equation (seed 004 eq. (13)) with scipy, outside the run's step budget, where an overflowing right side once
+    # looped for good (body.C = 1e-300 on quadratic_friction); the templates themselves run auto or full
+    for n, base in enumerate(bases):
+        if "mass" not in base or base["run"].get("fidelity") == "closed":
+            continue
+        for path in numeric_paths(base):
+            data = json.loads(json.dumps(base))
+            value = MAGNITUDES[k % len(MAGNITUDES)]
+            k += 1
+            put(data, path, value)
+            data["run"].update(samples=11, fidelity="closed")
+            out.append((f"closed t{n}:{path}={value!r}", to_toml(data)))
+    fidelities = random.Random(seed + 1)  # its own stream: the mixtures' other draws stay what they were
     for m in range(extra_random):
         data = json.loads(json.dumps(rng.choice(bases)))
         paths = numeric_paths(data)
@@ -116,5 +130,7 @@ def generate(seed: int = 17, extra_random: int = 60) -> list[tuple[str, str]]:
         elif kind < 0.55:
             run["method"] = rng.choice(["RK45", "Radau", "LSODA"])
         run.pop("dt", None) if run.get("method") not in ("RK4", "RK8", "midpoint") else None
+        if fidelities.random() < 0.5:  # every model, not only the one each template names
+            run["fidelity"] = fidelities.choice(["auto", "full", "averaged", "closed"])
         out.append((f"mix{m}", to_toml(data, extra)))
     return out
