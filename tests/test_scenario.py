@@ -6,6 +6,7 @@ import copy
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import physics
@@ -146,3 +147,16 @@ def test_a_file_path_is_named_whole_and_a_path_past_any_use_keeps_its_file_name(
         physics.Scenario.load(huge)
     shown = str(info.value).split(": cannot be read")[0]
     assert shown.endswith("/the file.toml'") and "..." in shown and len(shown) <= len("scenario = ") + MAX_PATH
+
+
+@pytest.mark.parametrize("t_end", [5e-324, 1e-320, 1e-306])
+def test_a_horizon_too_short_for_distinct_sample_times_is_refused_by_name(t_end):
+    """Subnormal spacing repeats sample times: t_end = 5e-324 reached the run and came back as scipy's own words
+    ("Values in `t_eval` are not properly sorted"). Refused on load instead, with the shortest t_end allowed."""
+    base = physics.Scenario.load(ROOT / "assets" / "scenarios" / "oblate_settling.toml")
+    with pytest.raises(physics.ScenarioError, match=r"run\.t_end = .*too short for 2001 distinct sample times"):
+        base.with_values(**{"run.t_end": t_end})
+    shortest = 2.2250738585072014e-308 * 2000
+    assert base.with_values(**{"run.t_end": shortest * 1.0001}).run.times()[1] > 0  # just above: distinct times
+    few = base.with_values(**{"run.samples": 2, "run.t_end": 1e-307})
+    assert np.all(np.diff(few.run.times()) > 0)

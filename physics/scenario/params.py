@@ -121,6 +121,9 @@ class Initial:
             object.__setattr__(self, "theta0", th)
 
 
+MIN_SPACING = 2.2250738585072014e-308  # s: the smallest normal double, the least time between two samples
+
+
 @dataclass(frozen=True)
 class Run:
     """What to compute: fidelity, horizon t_end (s), optional output times, number of samples,
@@ -157,6 +160,12 @@ class Run:
         elif self.method in FIXED_STEP_METHODS:
             raise ScenarioError("run.dt", None, f'is required by the fixed-step method "{self.method}" '
                                 "(the largest step, s)")
+        if self.t_eval is None and self.t_end / (self.samples - 1) < MIN_SPACING:
+            # subnormal spacing: the sample times repeat (t_end = 5e-324 gave scipy's "Values in `t_eval` are not
+            # properly sorted" as the run's fault)
+            raise ScenarioError("run.t_end", self.t_end, f"too short for {self.samples} distinct sample times: "
+                                f"at least {MIN_SPACING:.3g} s between samples, so t_end >= "
+                                f"{MIN_SPACING * (self.samples - 1):.3g} s at run.samples = {self.samples}")
         if self.t_eval is not None:
             if not isinstance(self.t_eval, (list, tuple)) or len(self.t_eval) < 1:
                 raise ScenarioError("run.t_eval", self.t_eval, "must be a non-empty list of times")
