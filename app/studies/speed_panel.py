@@ -122,6 +122,10 @@ class SpeedPanel:
     def _say(self, text: str) -> None:
         self.status.content = text
 
+    def _say_earlier(self, news: str) -> None:
+        """``news`` (a sweep under way or failed) with the earlier result the chart and button still hold."""
+        self._say(news + EARLIER + (STALE + "  \n" if self.stale else "") + summary(self.result))
+
     def start(self) -> threading.Thread | None:
         """Start a sweep in a daemon thread (ignored while one runs); returns the thread."""
         if self.thread is not None and self.thread.is_alive():
@@ -136,7 +140,10 @@ class SpeedPanel:
         self.run_btn.disabled = True
         self.stop_btn.disabled = False
         self.use_btn.disabled = True
-        self._say("Sweeping ..." + (EARLIER + summary(self.result) if self.result is not None else ""))
+        if self.result is None:
+            self._say("Sweeping ...")
+        else:
+            self._say_earlier("Sweeping ...")
         self.thread = threading.Thread(target=self._work, args=(sc,), name="speed-vs-accuracy", daemon=True)
         self.thread.start()
         return self.thread
@@ -164,7 +171,7 @@ class SpeedPanel:
             if self.result is None:
                 self._say(failed)
             else:  # the chart still shows the earlier sweep: say so, with its summary, and let it be used again
-                self._say(failed + EARLIER + (STALE + "  \n" if self.stale else "") + summary(self.result))
+                self._say_earlier(failed)
                 self.use_btn.disabled = self.stale or self.result.recommended is None
         finally:
             self.run_btn.disabled = False
@@ -187,8 +194,10 @@ class SpeedPanel:
                 # a new sweep under way has its own news (the sweep's own thread calls this once it has ended)
                 running = (self.thread is not None and self.thread.is_alive()
                            and self.thread is not threading.current_thread())
-                self._say(("Sweeping ..." + EARLIER if running else "") + (STALE + "  \n" if stale else "")
-                          + summary(self.result))
+                if running:
+                    self._say_earlier("Sweeping ...")
+                else:
+                    self._say((STALE + "  \n" if stale else "") + summary(self.result))
                 self.use_btn.disabled = running or stale or self.result.recommended is None
         except Exception:  # noqa: BLE001 - a scenario being swapped out: judged again at the next change
             pass
