@@ -198,11 +198,13 @@ def main(argv: list[str] | None = None) -> int:
                       if isinstance(v, dict)) + f", {p['violations']} violations")
     h = result["hardening_form"]
     clean = [x for x in h if x["violations"] == 0]
-    print("hardening form: " + (f"factor {clean[0]['factor']:g} is the least with no violation: " + ", ".join(
-        f"{a:g} rad {clean[0][f'share_{a:g}']:.0%}" for a in ACCURACIES) if clean else
-        f"every factor from 1 to 2.5 leaves rows above their estimate ({h[-1]['violations']} at 2.5, worst "
-        f"actual/estimate {h[-1]['worst']:.2f}; at 2.5 it takes " + ", ".join(
-            f"{a:g} rad {h[-1][f'share_{a:g}']:.0%}" for a in ACCURACIES) + ")"))
+    shown = clean[0] if clean else h[-1]  # the least factor with no violation, else the largest tried
+    taken = ", ".join(f"{a:g} rad {shown[f'share_{a:g}']:.0%}" for a in ACCURACIES)
+    if clean:
+        print(f"hardening form: factor {shown['factor']:g} is the least with no violation: {taken}")
+    else:
+        print(f"hardening form: every factor from 1 to 2.5 leaves rows above their estimate ({shown['violations']} "
+              f"at 2.5, worst actual/estimate {shown['worst']:.2f}; at 2.5 it takes {taken})")
     c = result.get("ceiling")
     if c is None:
         print("no pair of factors from 1 to 2.5 leaves every actual error within its estimate")
