@@ -8,6 +8,7 @@ the TOML key (``table.key``), so the same message reaches a scenario file, the C
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, field
 
 from physics.core.errors import ScenarioError
@@ -121,7 +122,7 @@ class Initial:
             object.__setattr__(self, "theta0", th)
 
 
-MIN_SPACING = 2.2250738585072014e-308  # s: the smallest normal double, the least time between two samples
+MIN_SPACING = sys.float_info.min  # s: the smallest normal double, the least time between two samples
 
 
 @dataclass(frozen=True)
