@@ -27,7 +27,7 @@ _MAX_POWER = 6
 _ODE_ATOL = 1e-14
 # right sides the integration of (13) may take: every shipped scene takes 92-941 (fidelity closed). Not the run's
 # step budget: in u = ln|tan theta| (13) is slow and smooth, and a run that crawls here (body.C = 1e-100 makes its
-# rates 1e100 times the scene's) would take an hour of Python calls to reach 2e7
+# rates 1e100 times the scene's) took 0.69 s for 100000 calls, so about 2.3 minutes to reach the budget's 2e7
 _MAX_CALLS = 100_000
 
 
