@@ -91,6 +91,7 @@ class Parts:
     g: float
     width: float
     polhode_gap: float = 0.0
+    resonance_gap: float = 0.0  # the part of detuning_gap read at sigma = 0 (0 where the swing cannot reach it)
 
     @property
     def bound(self) -> float:
@@ -131,7 +132,8 @@ def parts(p: SphericalLinear, wx: float, wy: float, t_end: float, swing_shift: f
     reach = spin_up + swing_shift * p.omega0 * max(a, a_jump) ** 2
     # the detuning anywhere in sigma +- shift: the averaged theta moves most at either end or, where the swing can
     # carry sigma to the resonance (|sigma| < reach), at sigma = 0
-    detuning_gap = float(np.max(np.abs(th_resonant - theta_avg))) if abs(co.sigma) < reach else 0.0
+    resonance_gap = float(np.max(np.abs(th_resonant - theta_avg))) if abs(co.sigma) < reach else 0.0
+    detuning_gap = resonance_gap
     for sigma in (co.sigma + shift, co.sigma - shift):
         shifted = copy.copy(co)
         shifted.sigma = sigma
@@ -145,7 +147,8 @@ def parts(p: SphericalLinear, wx: float, wy: float, t_end: float, swing_shift: f
         th, _ = averaged_theta(co, u0, p.W, t * (1 + sign * eps))
         rate_gap = max(rate_gap, float(np.max(np.abs(th - theta_avg))))
     return Parts(linear_gap=float(np.max(np.abs(theta_avg - theta_lin))), detuning_gap=detuning_gap,
-                 rate_gap=rate_gap, a=a, shift=shift, g=g, width=width, polhode_gap=polhode_gap(p, wx, wy, t_end))
+                 rate_gap=rate_gap, a=a, shift=shift, g=g, width=width, polhode_gap=polhode_gap(p, wx, wy, t_end),
+                 resonance_gap=resonance_gap)
 
 
 def polhode_gap(p: SphericalLinear, wx: float, wy: float, t_end: float) -> float:
@@ -208,7 +211,7 @@ def scenario_parts(sc) -> Parts:
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
         q = None
     if q is None or not all(map(math.isfinite, (q.linear_gap, q.detuning_gap, q.rate_gap, q.a, q.shift))):
-        return Parts(*(math.inf,) * 5, g=0.0, width=0.0, polhode_gap=math.inf)
+        return Parts(*(math.inf,) * 5, g=0.0, width=0.0, polhode_gap=math.inf, resonance_gap=math.inf)
     return q
 
 
