@@ -298,3 +298,30 @@ def test_a_scene_with_too_many_plane_pendulums_is_refused_naming_the_table():
     assert len(physics.Scenario.from_dict(scene(MAX_PLANE_PENDULUMS)).plane_pendulums) == MAX_PLANE_PENDULUMS
     with pytest.raises(physics.ScenarioError, match=rf"^plane_pendulum = '200 tables': at most {MAX_PLANE_PENDULUMS}"):
         physics.Scenario.from_dict(scene(200))
+
+
+@pytest.mark.parametrize("key, value, words", [
+    # scipy's RK45 overflows in the spring's term: Python said "OverflowError: (34, 'Numerical result out of range')"
+    ("mass.Omega", 1e300, "a number grew past the largest a float can hold"),
+    # a carrier moment of 1e-300 makes the starting rates infinite: scipy said "`y0` must be finite"
+    ("body.C", 1e-300, "a number it needed was not finite"),
+])
+def test_a_numerical_failure_is_told_in_a_users_words_not_the_librarys(key, value, words):
+    sc = Scenario.from_toml((ROOT / "assets" / "scenarios" / "oblate_settling.toml").read_text()).with_values(
+        **{key: value, "run.fidelity": "full", "run.method": "RK45"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(NumericalFault) as info:
+            physics.simulate(sc)
+    text = str(info.value)
+    assert words in text and "Error" not in text and "y0" not in text and "(34," not in text
+    assert info.value.key == key
+
+
+def test_a_guarded_integration_keeps_its_own_words_naming_what_it_integrated():
+    from physics.core.blame import plain_words
+    from physics.core.guarded import RightSideError
+
+    said = "seed 004 eq. (13): its right side is not finite (NaN or infinity) at t = 0"
+    assert plain_words(RightSideError(said)) == said
+    assert plain_words(KeyError("q")) == "KeyError: 'q'"  # nothing it does not know is hidden

@@ -15,6 +15,7 @@ from contextlib import contextmanager
 import numpy as np
 
 from physics.core.errors import IntegrationFault, NumericalFault, ScenarioError
+from physics.core.guarded import RightSideError
 
 # what numpy, scipy and Python raise when the numbers, not the code, are at fault
 NUMERICAL = (ArithmeticError, np.linalg.LinAlgError, ValueError, RuntimeError)
@@ -94,9 +95,26 @@ def guarded(sc, what: str, spans: dict[str, tuple[float, float]] | None = None):
         raise
     except NUMERICAL as exc:
         key, value = most_extreme(sc, spans)
-        detail = str(exc).splitlines()[0][:120] if str(exc) else ""
-        raise NumericalFault(f"{what} failed ({type(exc).__name__}{': ' + detail if detail else ''})",
-                             key, value) from exc
+        raise NumericalFault(f"{what} failed: {plain_words(exc)}", key, value) from exc
+
+
+def plain_words(exc: BaseException) -> str:
+    """What went wrong in a numerical failure, in a user's words where the library's are its own ("(34,
+    'Numerical result out of range')", "`y0` must be finite"); otherwise its type and first line, so nothing is
+    hidden."""
+    text = str(exc).splitlines()[0][:120] if str(exc) else ""
+    if isinstance(exc, RightSideError):  # already in the project's words, naming what was integrated
+        return text
+    low = text.lower()
+    if isinstance(exc, OverflowError) or "overflow" in low or "out of range" in low:
+        return "a number grew past the largest a float can hold (about 1.8e308)"
+    if isinstance(exc, ZeroDivisionError) or "divide by zero" in low or "division by zero" in low:
+        return "a quotient divided by zero (a value too small to tell from 0 next to the others)"
+    if "finite" in low or "nan" in low.split():
+        return "a number it needed was not finite (NaN or infinity)"
+    if isinstance(exc, np.linalg.LinAlgError) or "singular" in low:
+        return "a matrix it had to solve was singular (its values too far apart in size)"
+    return f"{type(exc).__name__}{': ' + text if text else ''}"
 
 
 def _t_end(sc) -> float:
