@@ -238,3 +238,27 @@ def test_a_stiff_run_is_refused_in_its_own_system_s_keys(toml, edits, named, mon
     assert toml.startswith("quadratic") or "Omega" not in message, message  # no moving mass's words elsewhere
     for words in named:
         assert words in message, (words, message)
+
+
+def test_scipy_stops_at_a_right_hand_side_that_is_not_finite_not_at_its_evaluation_budget():
+    """A right-hand side that turns NaN past t = 1 s: scipy's RK45 rejects every step with a NaN error norm and
+    ended in "Required step size is less than spacing between numbers" at t = 0.975, the last accepted time,
+    which names neither the cause nor where it arose (and a NaN step size can pass the minimum-step test: the
+    closed forms' solve_ivp looped for good that way, physics/core/guarded.py). The stepper stops at the first
+    such value, saying so at its time."""
+    calls = []
+
+    def spoiled(t, y, p, out):
+        calls.append(t)
+        rhs(t, y, p, out)
+        if t > 1.0:
+            out[0] = np.nan
+
+    physics.register_model(physics.Model(
+        name=f"{NAME}/spoiled", system=NAME, fidelity="spoiled", summary="a right side that is NaN past 1 s",
+        state=("wx", "wy", "wz", "qw", "qx", "qy", "qz"), py_rhs=spoiled, pack=pack, initial_state=initial_state,
+        observe=observe, invariants=invariants))
+    with pytest.raises(physics.IntegrationFault) as info:
+        physics.simulate(_scenario(t_end=3.0), fidelity="spoiled", method="RK45")
+    assert "the right-hand side became non-finite (NaN or infinity)" in str(info.value)
+    assert 1.0 < info.value.t <= 3.0 and len(calls) < 1000

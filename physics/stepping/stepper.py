@@ -329,10 +329,12 @@ class Stepper:
             nonlocal evaluations
             evaluations += 1
             if evaluations > max_evals:
-                raise _OutOfBudget(tt)
+                raise _Stopped(tt)
             if progress and evaluations % 1000 == 0:
                 progress(min(1.0, (tt - t[0]) / (t[-1] - t[0])))
             self.rhs(tt, y, p, out)
+            if not np.all(np.isfinite(out)):  # scipy would reject steps with a NaN error norm, then blame the step size
+                raise _Stopped(tt, STATUS_TEXT[NONFINITE].replace("state", "the right-hand side"))
             return out.copy()
 
         events = None
@@ -347,11 +349,12 @@ class Stepper:
         try:
             sol = solve_ivp(fun, (t[0], t[-1]), y0, method=method, t_eval=t, rtol=self.rtol, atol=self.atol,
                             events=events)
-        except _OutOfBudget as stop:
-            raise IntegrationFault(f"scipy {method}: more than {max_evals} evaluations of the right-hand side "
-                                   '(the budget of a run); use method "auto"', stop.t) from None
-        if sol.status == -1:
-            raise IntegrationFault(f"{method}: {sol.message}", float(sol.t[-1]) if sol.t.size else float(t[0]))
+        except _Stopped as stop:
+            raise IntegrationFault(f"scipy {method}: " + (stop.why or f"more than {max_evals} evaluations of the "
+                                   'right-hand side (the budget of a run); use method "auto"'), stop.t) from None
+        if sol.status == -1:  # scipy's own words, but for the one failure the compiled steppers name too
+            why = STATUS_TEXT[UNDERFLOW] if "spacing between numbers" in sol.message else sol.message
+            raise IntegrationFault(f"{method}: {why}", float(sol.t[-1]) if sol.t.size else float(t[0]))
         Y, t_out = sol.y.T, sol.t
         reason = STATUS_TEXT[OK]
         if sol.status == 1:
@@ -361,6 +364,9 @@ class Stepper:
                               steps=getattr(sol, "nsteps", None), stop_reason=reason, t_stop=float(t_out[-1]))
 
 
-class _OutOfBudget(Exception):
-    def __init__(self, t: float):
+class _Stopped(Exception):
+    """scipy's run stopped from inside its right-hand side: past the budget, or (``why``) on a value it cannot use."""
+
+    def __init__(self, t: float, why: str = ""):
         self.t = float(t)
+        self.why = why
