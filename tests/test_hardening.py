@@ -325,3 +325,15 @@ def test_a_guarded_integration_keeps_its_own_words_naming_what_it_integrated():
     said = "seed 004 eq. (13): its right side is not finite (NaN or infinity) at t = 0"
     assert plain_words(RightSideError(said)) == said
     assert plain_words(KeyError("q")) == "KeyError: 'q'"  # nothing it does not know is hidden
+
+
+def test_a_scipy_run_that_fails_before_its_first_output_is_a_fault_naming_the_key():
+    """scipy leaves the solution's times a list, not an array, when it fails before the first output time: the
+    fault's own message then raised AttributeError ('list' object has no attribute 'size'), a traceback."""
+    sc = Scenario.from_toml((ROOT / "assets" / "scenarios" / "oblate_settling.toml").read_text()).with_values(
+        **{"mass.lam_q": 1e308, "run.method": "DOP853"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(NumericalFault) as info:
+            physics.simulate(sc, fidelity="averaged")
+    assert info.value.key == "mass.lam_q" and "step size underflow" in str(info.value)

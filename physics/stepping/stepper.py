@@ -354,7 +354,8 @@ class Stepper:
                                    'right-hand side (the budget of a run); use method "auto"'), stop.t) from None
         if sol.status == -1:  # scipy's own words, but for the one failure the compiled steppers name too
             why = STATUS_TEXT[UNDERFLOW] if "spacing between numbers" in sol.message else sol.message
-            raise IntegrationFault(f"{method}: {why}", float(sol.t[-1]) if sol.t.size else float(t[0]))
+            ts = np.asarray(sol.t)  # scipy leaves t a list where it failed before the first output time
+            raise IntegrationFault(f"{method}: {why}", float(ts[-1]) if ts.size else float(t[0]))
         Y, t_out = sol.y.T, sol.t
         reason = STATUS_TEXT[OK]
         if sol.status == 1:
