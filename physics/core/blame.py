@@ -110,7 +110,9 @@ def plain_words(exc: BaseException) -> str:
         return "a number grew past the largest a float can hold (about 1.8e308)"
     if isinstance(exc, ZeroDivisionError) or "divide by zero" in low or "division by zero" in low:
         return "a quotient divided by zero (a value too small to tell from 0 next to the others)"
-    if "finite" in low or "nan" in low.split():
+    if "spacing between numbers" in low:  # scipy's step-size underflow, as the compiled steppers name it
+        return text.split(":")[0] + ": step size underflow" if ":" in text else "step size underflow"
+    if "finite" in low or re.search(r"\b(nan|nans|inf|infs|infinity)\b", low):
         return "a number it needed was not finite (NaN or infinity)"
     if isinstance(exc, np.linalg.LinAlgError) or "singular" in low:
         return "a matrix it had to solve was singular (its values too far apart in size)"
