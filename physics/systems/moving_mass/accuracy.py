@@ -32,6 +32,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from physics.core.blame import NUMERICAL
+from physics.core.errors import ScenarioError
 from physics.registry import Condition, get_model
 from physics.scenario.scenario import Scenario
 from physics.systems.choice import cheapest_within
@@ -197,7 +199,15 @@ def averaged_error_bound(sc: Scenario) -> float:
 def _bound(sc: Scenario) -> float:
     if sc.mass is None or structural_failures(sc) or any(not c.holds for c in domain(sc)):
         return math.inf
-    return estimate(sc)
+    # An estimate that cannot be computed claims nothing; it must not fail the run. Found by a fuzz: cavity.beta =
+    # 1.7e100 on seed004_fig4_prolate collapses |G|'s range to a point, the forced response's rate table cannot be
+    # built, and the whole run at fidelity auto failed where the full model could be tried. Bad input stays refused.
+    try:
+        return estimate(sc)
+    except ScenarioError:
+        raise
+    except NUMERICAL:
+        return math.inf
 
 
 def choose(sc: Scenario) -> tuple[str, str]:
