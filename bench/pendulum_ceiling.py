@@ -16,6 +16,13 @@ theta moves when sigma follows the bob's own swing, self-consistently, either wa
 ``hardening_form`` gives, for each factor S, the violations and shares of SAFETY_LINEAR (linear_gap +
 polhode_gap) + S max(hardening, rate_gap).
 
+A second candidate follows both amplitude effects: ``following`` = how far the averaged theta moves when sigma
+follows the swing and the spin-up together (sigma + s_w SWING_SHIFT omega_0 |Ut|^2 - s_s (C/A) W (theta0^2 -
+theta^2)/2, the largest over the four signs s_w, s_s = +-1), and the resonance is kept as the product reads it
+(``resonance``: the detuning gap's part at sigma = 0, where the swing can reach it). The summary's
+``following_form`` gives, for each factor S from 1 to 4, the violations and shares of SAFETY_LINEAR (linear_gap +
+polhode_gap) + S max(following, rate_gap, resonance).
+
 Writes bench/results/pendulum_ceiling.csv (+ .meta.json: machine, command, summary) and
 docs/img/pendulum_ceiling.png (the share auto takes against one common factor, and the best pair).
 """
@@ -42,7 +49,8 @@ ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "bench" / "results"
 ACCURACIES = (1e-2, 1e-3)
 FACTORS = np.round(np.arange(1.0, 2.5001, 0.05), 2)
-COLUMNS = ("study", "index", "actual", "linear", "detuning", "rate", "estimate", "hardening")
+FOLLOWING_FACTORS = np.round(np.arange(1.0, 4.0001, 0.1), 2)
+COLUMNS = ("study", "index", "actual", "linear", "detuning", "rate", "estimate", "hardening", "following", "resonance")
 HARDENING_POINTS = 4001  # grid of the hardening form's theta over [0, t_end]
 
 
@@ -69,7 +77,8 @@ def measure(row: dict) -> dict | None:
     if not all(map(math.isfinite, parts)):
         return None
     return dict(study=row["study"], index=row["index"], actual=row["actual"], linear=parts[0], detuning=parts[1],
-                rate=parts[2], estimate=q.bound, hardening=hardening_gap(sc))
+                rate=parts[2], estimate=q.bound, hardening=hardening_gap(sc), following=following_gap(sc),
+                resonance=q.resonance_gap)
 
 
 def hardening_gap(sc) -> float:
@@ -79,6 +88,17 @@ def hardening_gap(sc) -> float:
     with np.errstate(all="ignore"):
         base = detuned_theta(sc, t, 0.0, 0.0)
         gap = max(float(np.max(np.abs(detuned_theta(sc, t, 0.0, sign) - base))) for sign in (1.0, -1.0))
+    return gap if math.isfinite(gap) else math.inf
+
+
+def following_gap(sc) -> float:
+    """max |theta - theta_averaged| over [0, t_end] (rad) with sigma following both the swing and the spin-up, the
+    largest over their four pairs of signs (module docstring)."""
+    t = np.linspace(0.0, float(sc.run.t_end), HARDENING_POINTS)
+    with np.errstate(all="ignore"):
+        base = detuned_theta(sc, t, 0.0, 0.0)
+        gap = max(float(np.max(np.abs(detuned_theta(sc, t, spin, swing) - base)))
+                  for spin in (1.0, -1.0) for swing in (1.0, -1.0))
     return gap if math.isfinite(gap) else math.inf
 
 
@@ -124,12 +144,33 @@ def summary(rows: list[dict]) -> dict:
         hardening_form.append(dict(factor=float(f), violations=int(np.sum(actual > est)),
                                    worst=float(np.max(actual / est)),
                                    **{f"share_{k}": v["share"] for k, v in shares(actual, est).items()}))
+    follow = np.maximum.reduce([np.array([r["following"] for r in rows]), rate,
+                                np.array([r["resonance"] for r in rows])])
+    following_form = []
+    for f in FOLLOWING_FACTORS:
+        est = lin + f * follow
+        following_form.append(dict(factor=float(f), violations=int(np.sum(actual > est)),
+                                   worst=float(np.max(actual / est)),
+                                   **{f"share_{k}": v["share"] for k, v in shares(actual, est).items()}))
     out = dict(scenarios=len(rows), product=dict(factor=SAFETY, violations=int(np.sum(actual > product)),
                                                    worst=float(np.max(actual / product)), **shares(actual, product)),
-               common=common, hardening_form=hardening_form)
+               common=common, hardening_form=hardening_form, following_form=following_form)
     if best is not None:
         out["ceiling"] = dict(s_detuning=best[1], s_rate=best[2], worst=best[4], **best[3])
     return out
+
+
+def form_line(name: str, form: list[dict]) -> str:
+    """The least factor of a candidate form with no violation and what it takes; or, where every factor leaves
+    some, how many at the largest tried."""
+    clean = [x for x in form if x["violations"] == 0]
+    shown = clean[0] if clean else form[-1]
+    taken = ", ".join(f"{a:g} rad {shown[f'share_{a:g}']:.0%}" for a in ACCURACIES)
+    if clean:
+        return f"{name} form: factor {shown['factor']:g} is the least with no violation: {taken}"
+    return (f"{name} form: every factor from {form[0]['factor']:g} to {shown['factor']:g} leaves rows above their "
+            f"estimate ({shown['violations']} at {shown['factor']:g}, worst actual/estimate {shown['worst']:.2f}; "
+            f"there it takes {taken})")
 
 
 def chart(result: dict, path: Path) -> None:
@@ -143,9 +184,11 @@ def chart(result: dict, path: Path) -> None:
     for acc, style in zip(ACCURACIES, ("-", "--"), strict=True):
         key = f"share_{acc:g}"
         ax.plot(f, [c[key] for c in result["common"]], style, color="C0", label=f"one factor on both, {acc:g} rad")
-        ax.plot(f, [c[key] for c in result["hardening_form"]], style, color="C2", lw=0.9,
-                label=f"hardening form (never a bound here), {acc:g} rad" if not any(
-                    c["violations"] == 0 for c in result["hardening_form"]) else f"hardening form, {acc:g} rad")
+        for name, color in (("hardening", "C2"), ("following", "C4")):
+            form = result[f"{name}_form"]
+            bound = any(c["violations"] == 0 for c in form)
+            ax.plot([c["factor"] for c in form], [c[key] for c in form], style, color=color, lw=0.9,
+                    label=f"{name} form{'' if bound else ' (never a bound here)'}, {acc:g} rad")
         if "ceiling" in result:
             ax.axhline(result["ceiling"][f"{acc:g}"]["share"], color="C1", ls=style, lw=0.9,
                        label=f"best pair with no violation, {acc:g} rad")
@@ -196,15 +239,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{len(rows)} scenarios with an estimate (of {len(picked)}); the product's (SAFETY {SAFETY:g}): "
           + ", ".join(f"{k} rad {v['auto']}/{v['oracle']} = {v['share']:.0%}" for k, v in p.items()
                       if isinstance(v, dict)) + f", {p['violations']} violations")
-    h = result["hardening_form"]
-    clean = [x for x in h if x["violations"] == 0]
-    shown = clean[0] if clean else h[-1]  # the least factor with no violation, else the largest tried
-    taken = ", ".join(f"{a:g} rad {shown[f'share_{a:g}']:.0%}" for a in ACCURACIES)
-    if clean:
-        print(f"hardening form: factor {shown['factor']:g} is the least with no violation: {taken}")
-    else:
-        print(f"hardening form: every factor from 1 to 2.5 leaves rows above their estimate ({shown['violations']} "
-              f"at 2.5, worst actual/estimate {shown['worst']:.2f}; at 2.5 it takes {taken})")
+    for name in ("hardening", "following"):
+        print(form_line(name, result[f"{name}_form"]))
     c = result.get("ceiling")
     if c is None:
         print("no pair of factors from 1 to 2.5 leaves every actual error within its estimate")

@@ -70,3 +70,17 @@ def test_the_hardening_form_is_third_order_in_the_nutation(run):
     gaps = [hardening_gap(sc.with_values(**{"initial.theta0": th * f})) for f in (0.1, 0.05)]
     assert float(out[0]["hardening"]) > 0 and gaps[1] > 0
     assert gaps[0] / gaps[1] == pytest.approx(8.0, rel=0.03)
+
+
+def test_the_following_form_keeps_the_products_resonance_read(run):
+    """The resonance column is the part of the product's detuning gap read at sigma = 0, so it never exceeds that
+    gap; and the following form's estimate at each factor is rebuilt from the columns: its violations are those of
+    SAFETY_LINEAR linear + S max(following, rate, resonance)."""
+    _, out, meta, _ = run
+    col = {k: [float(o[k]) for o in out] for k in ("actual", "linear", "detuning", "rate", "following", "resonance")}
+    assert all(r <= d for r, d in zip(col["resonance"], col["detuning"], strict=True))
+    assert all(f > 0 for f in col["following"])
+    for form in meta["summary"]["following_form"]:
+        est = [SAFETY_LINEAR * lin + form["factor"] * max(f, r, res) for lin, f, r, res in zip(
+            col["linear"], col["following"], col["rate"], col["resonance"], strict=True)]
+        assert form["violations"] == sum(a > e for a, e in zip(col["actual"], est, strict=True))
