@@ -4,6 +4,7 @@ braking and faults are reported, not raised."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,6 +17,7 @@ pytestmark = pytest.mark.filterwarnings("ignore::physics.ValidityWarning")
 ANGLE_TOL = 1e-7  # rad: two step sequences at rtol 1e-10 over a few seconds
 REL_TOL = 1e-8  # relative, |K| and E
 TIME_TOL = 1e-6  # s, braking end against the closed-form T
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _default(t_end: float = 4.0, samples: int = 9, fidelity: str = "full") -> physics.Scenario:
@@ -247,3 +249,35 @@ def test_a_slider_change_reads_the_registry_a_few_times(system, monkeypatch):
     assert len(reads) <= FROM_DICT_READS
     run.retune(new)
     assert 0 < len(reads) <= FROM_DICT_READS + RETUNE_READS  # 0: the count would not see reads at all
+
+
+@pytest.mark.parametrize("scene, fidelity, changes, to, key, words", [
+    # OverflowError from the quasi-static displacement, shown by the explorer as "OverflowError: (34, ...)"
+    ("figures/seed000_fig1b_oblate", "auto", {"mass.Omega": 1.7e100, "run.t_end": 0.5}, "auto", "mass.Omega",
+     "a number grew past the largest a float can hold"),
+    # ValueError from the quadratic-friction closed form ("Bq0 = nan"), carried into at t > 0
+    ("quadratic_friction", "averaged", {"body.C": 1e-100, "mass.Omega": 1e-308}, "closed", "mass.Omega",
+     "not finite"),
+    # LinAlgError from the pendulum's averaged exponents ("Array must not contain infs or NaNs")
+    ("figures/seed002_frequencies_set_R", "averaged", {"pendulum.m": 1.7e-300, "pendulum.l": 1e-323}, "averaged",
+     "pendulum.l", "not finite"),
+])
+def test_a_retune_the_arithmetic_cannot_take_is_refused_naming_the_key_and_the_run_goes_on(
+        scene, fidelity, changes, to, key, words):
+    sc0 = physics.Scenario.from_toml((ROOT / "assets" / "scenarios" / f"{scene}.toml").read_text())
+    run = LiveRun(sc0, fidelity)
+    run.advance(0.5, 3)
+    before = dict(vars(run))
+    with pytest.raises(physics.ScenarioError) as info:
+        run.retune(sc0.with_values(**changes), to, keep_state=True)
+    assert info.value.key == key and words in str(info.value) and "Error" not in str(info.value)
+    assert all(vars(run)[k] is v for k, v in before.items())  # every attribute as it was
+    assert run.status == RUNNING and len(run.advance(0.5, 3).t) == 3
+
+
+def test_a_start_the_arithmetic_cannot_take_is_refused_naming_the_key():
+    sc = physics.Scenario.from_toml((ROOT / "assets" / "scenarios" / "figures" / "seed000_fig1b_oblate.toml")
+                                    .read_text()).with_values(**{"mass.Omega": 1.7e100, "run.t_end": 0.5})
+    with pytest.raises(physics.ScenarioError) as info:
+        LiveRun(sc, "auto")
+    assert info.value.key == "mass.Omega" and "Error" not in str(info.value)

@@ -28,7 +28,8 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from physics.core.errors import ScenarioError
+from physics.core.blame import NUMERICAL, most_extreme, plain_words
+from physics.core.errors import IntegrationFault, NumericalFault, ScenarioError
 from physics.core.trajectory import Trajectory
 from physics.kernels.build import pick
 from physics.registry import get_system
@@ -73,7 +74,8 @@ class LiveRun:
     """
 
     def __init__(self, scenario: Scenario, fidelity: str | None = None):
-        self._start(scenario, fidelity)
+        with _numerical_refused(scenario):
+            self._start(scenario, fidelity)
 
     # ---- set-up -------------------------------------------------------------------------
     def _start(self, scenario: Scenario, fidelity: str | None) -> None:
@@ -117,11 +119,16 @@ class LiveRun:
         _require_finite(self.scenario, np.append(K, 0.0 if row_ok else np.nan), what)
 
     @contextmanager
-    def _as_it_was_if_refused(self):
-        """On ScenarioError inside the block, every attribute back as it was before it (then re-raised)."""
+    def _as_it_was_if_refused(self, scenario: Scenario | None = None):
+        """On ScenarioError inside the block, every attribute back as it was before it (then re-raised); with
+        ``scenario``, an arithmetic failure too, refused as ``_numerical_refused`` says."""
         before = dict(self.__dict__)
         try:
-            yield
+            if scenario is None:
+                yield
+            else:
+                with _numerical_refused(scenario):
+                    yield
         except ScenarioError:
             self.__dict__.update(before)
             raise
@@ -155,7 +162,7 @@ class LiveRun:
     def reset(self) -> None:
         """Back to t = 0 with the current scenario. Raises ScenarioError, with the run as it was, when the
         scenario cannot start there (a value carried into a running state may make t = 0 non-finite)."""
-        with self._as_it_was_if_refused():  # refused: the run goes on as it was, never half started
+        with self._as_it_was_if_refused(self.scenario):  # refused: the run goes on as it was, never half started
             self._start(self.scenario, self.requested)
 
     def retune(self, scenario: Scenario, fidelity: str | None = None, *, keep_state: bool = True) -> bool:
@@ -168,6 +175,10 @@ class LiveRun:
         ``restart`` hook is restarted at t from the present K and attitude (physics/systems/restart.py; the
         spherical pendulum's averaged solution with its bob put at rest). When the state cannot be kept the run
         restarts from t = 0 and ``edit_note`` says why; ``energy_change`` is then None."""
+        with self._as_it_was_if_refused(scenario):  # the arithmetic of the new values too: refused, nothing changed
+            return self._retune(scenario, fidelity, keep_state)
+
+    def _retune(self, scenario: Scenario, fidelity: str | None, keep_state: bool) -> bool:
         res = resolve(scenario, fidelity)
         if res.model.solve is None:
             check_method(res.model, scenario, _method(scenario))
@@ -395,6 +406,25 @@ def _method(scenario: Scenario) -> str:
     return scenario.run.method if scenario.run.method in FIXED_STEP_METHODS else "auto"
 
 
+@contextmanager
+def _numerical_refused(scenario: Scenario):
+    """An arithmetic or linear-algebra failure (or an integration fault) while a scenario is being started or
+    carried over is a refusal of the scenario: ScenarioError naming its most extreme value and what failed in
+    plain words. Found by a fuzz of retune: mass.Omega = 1.7e100 raised OverflowError from the quasi-static
+    displacement, which the explorer showed as "OverflowError: (34, 'Numerical result out of range')"."""
+    try:
+        yield
+    except ScenarioError:
+        raise
+    except NumericalFault as exc:  # already names its key
+        raise ScenarioError(exc.key, exc.value, f"the run cannot start from it: {exc.what}; choose a value nearer "
+                            "the scenario's other scales") from exc
+    except (*NUMERICAL, IntegrationFault) as exc:
+        key, value = most_extreme(scenario)
+        raise ScenarioError(key, value, f"the run cannot start from it: {plain_words(exc)}; choose a value nearer "
+                            "the scenario's other scales") from exc
+
+
 def _finite_rows(tr: Trajectory) -> np.ndarray:
     """Per row: whether theta, |K|, E, omega and the attitude are all finite."""
     return (np.isfinite(tr.theta) & np.isfinite(tr.K) & np.isfinite(tr.E)
@@ -406,7 +436,5 @@ def _require_finite(scenario: Scenario, values: np.ndarray, what: str) -> None:
     never start (or go on) from NaN or inf (G0 = 1e200 gave E = inf and theta = NaN that a viewer showed)."""
     if np.all(np.isfinite(values)):
         return
-    from physics.core.blame import most_extreme
-
     key, value = most_extreme(scenario)
     raise ScenarioError(key, value, f"makes {what} non-finite (overflow or underflow): choose a value nearer 1 in size")
