@@ -356,3 +356,11 @@ def test_an_estimate_that_cannot_be_computed_claims_nothing_and_does_not_fail_th
         tr = physics.simulate(sc, fidelity="auto")
     assert d["averaged_error_bound"] == math.inf and "no error estimate" in d["auto_reason"]
     assert len(tr.t) > 1 and np.all(np.isfinite(tr.theta))  # it runs (the brake may end it before t_end)
+
+
+def test_the_projects_own_errors_keep_their_words_whole():
+    from physics.core.blame import plain_words
+
+    long = ScenarioError("run.t_end", 0.1, "needs 5.06e+18 attitude steps of 0.05 rad in the averaged model, more "
+                         "than its budget of 2000000; shorten run.t_end or bring the rates nearer")
+    assert plain_words(long) == str(long)  # not cut at 120 characters, and no "ScenarioError:" before it

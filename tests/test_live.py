@@ -281,3 +281,19 @@ def test_a_start_the_arithmetic_cannot_take_is_refused_naming_the_key():
     with pytest.raises(physics.ScenarioError) as info:
         LiveRun(sc, "auto")
     assert info.value.key == "mass.Omega" and "Error" not in str(info.value)
+
+
+@pytest.mark.parametrize("changes", [
+    {"mass.Omega": 1.7e-100},  # RightSideError: eq. (13)'s right side not finite at t = 0
+    {"cavity.a0": 1e30, "medium.lambda": 5.1},  # RuntimeError: eq. (13)'s integration underflowed its step
+])
+def test_a_closed_form_that_fails_while_advancing_is_a_fault_not_an_exception(changes):
+    """Found by the retune fuzz on seed 004's figures: the closed form's eq. (13) raised RuntimeError out of
+    advance, which catches only ValueError; a fault is recorded, as the stepped models' are."""
+    sc0 = physics.Scenario.from_toml((ROOT / "assets" / "scenarios" / "figures" / "seed004_fig1_prolate.toml")
+                                     .read_text())
+    run = LiveRun(sc0, "closed")
+    run.retune(sc0.with_values(**changes), "closed", keep_state=True)  # nothing is evaluated until advance
+    tr = run.advance(1.0, 5)
+    assert run.status == FAULT and len(tr.t) == 0
+    assert run.message.startswith("closed form failed: ") and "Error" not in run.message

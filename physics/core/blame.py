@@ -102,9 +102,9 @@ def plain_words(exc: BaseException) -> str:
     """What went wrong in a numerical failure, in a user's words where the library's are its own ("(34,
     'Numerical result out of range')", "`y0` must be finite"); otherwise its type and first line, so nothing is
     hidden."""
+    if isinstance(exc, (RightSideError, ScenarioError, IntegrationFault)):  # already in the project's words
+        return str(exc)
     text = str(exc).splitlines()[0][:120] if str(exc) else ""
-    if isinstance(exc, RightSideError):  # already in the project's words, naming what was integrated
-        return text
     low = text.lower()
     if isinstance(exc, OverflowError) or "overflow" in low or "out of range" in low:
         return "a number grew past the largest a float can hold (about 1.8e308)"
