@@ -73,6 +73,18 @@ def test_1e308_typed_in_m_is_refused_in_words_and_the_box_shows_the_mass_that_ru
     page.screenshot(path=str(tmp_path / "typed_1e308.png"))
 
 
+def test_an_omega_whose_arithmetic_overflows_is_refused_in_words_naming_it(page):
+    """Omega = 1.7e100 passes validation, but the mass's quasi-static displacement overflows when the run is
+    retuned: the page said "Rejected: OverflowError: (34, 'Numerical result out of range')" at the top and the
+    same Python words beside the slider. Now it is refused as any bad value is, naming it and saying why."""
+    box = number_box(page, "Omega (rad/s)")
+    good = box.input_value()
+    enter(page, "Omega (rad/s)", "1.7e100")
+    visible_beside(page, re.compile(r"Rejected: Omega = 1\.7e\+100 rad/s: the run cannot start from it: a number "
+                                    r"grew past the largest a float can hold .*Omega stays " + re.escape(good)), box)
+    assert box.input_value() == good and "Error" not in page.inner_text("body")
+
+
 def test_a_decimal_comma_is_read_as_a_decimal_point_and_said(page):
     box = enter(page, "chi (1/s)", "1,5", key="Tab")  # leaving the box sends it too
     visible_beside(page, re.compile(r"chi: '1,5' read as 1\.5 1/s"), box)
