@@ -135,3 +135,35 @@ def test_a_flood_of_any_action_queues_a_bounded_few_and_the_latest_counts():
     assert queued.count("reset") == queued.count("warp") == PENDING_EACH
     fr = eng.tick(1 / FRAME_HZ)
     assert eng.warp == 50.0 and eng.playing and not eng._actions and eng.error == "" and fr.status == "running"
+
+
+@pytest.mark.parametrize("action, sent, said", [
+    # Python's own words before: "ValueError: could not convert string to float: 'bogus'", "KeyError: -1e+200",
+    # "TypeError: unhashable type: 'list'"; none named what was refused or what is allowed
+    ("warp", "bogus", "time warp 'bogus': expected a number of times real time (0.1x to 10000x)"),
+    ("warp", math.inf, "time warp inf: expected a number of times real time (0.1x to 10000x)"),
+    ("preset", -1e200, "preset '-1e+200': expected one of the presets"),
+    ("preset", [1.0], "preset '[1.0]': expected one of the presets"),
+    ("exaggeration", {"a": 1}, "exaggerate u (x) {'a': 1}: expected a number in [1, 1000]"),
+])
+def test_an_action_sent_a_value_it_cannot_take_says_which_and_what_it_takes(action, sent, said):
+    eng = Engine()
+    warp = eng.warp
+    eng.request(action, sent)
+    fr = eng.tick(1.0 / FRAME_HZ)
+    assert eng.error.startswith(said) and "Error" not in eng.error
+    assert fr.status == "running" and eng.warp == warp and eng.scenario.system == "moving_mass"
+
+
+def test_a_bob_number_that_is_no_whole_number_is_refused_naming_the_bobs_it_may_be():
+    eng = Engine()
+    eng.request("system", "plane_pendulums")
+    eng.tick(1.0 / FRAME_HZ)
+    for sent in ("bogus", math.nan, math.inf, 1.5, [1]):
+        eng.request("bob", sent)
+        eng.tick(1.0 / FRAME_HZ)
+        assert f"{sent!r}: expected a whole number from 0 to " in eng.error and "Error" not in eng.error, sent
+    eng.request("bob", 1e300)  # a whole number past the last bob is the last, as a slider's end
+    eng.tick(1.0 / FRAME_HZ)
+    assert eng.item == len(eng.scenario.to_dict()["plane_pendulum"]) - 1
+

@@ -49,7 +49,13 @@ def _item_action(eng, a, value, own: bool) -> None:
     """Which item of the scene's array table the sliders edit (0-based; None or "all": every item); the
     sliders show its values."""
     n = len(a.options_of(eng.scenario)) if own else 0
-    eng.item = None if value in (None, "all") or n == 0 else min(max(int(value), 0), n - 1)
+    if value in (None, "all") or n == 0:
+        eng.item = None
+    else:
+        number = _number_sent(value)
+        if number is None or number != int(number):
+            raise ValueError(f"{a.label} {value!r}: expected a whole number from 0 to {n - 1} or 'all'")
+        eng.item = min(max(int(number), 0), n - 1)
     system = eng.scenario.system
     own_keys = {p.key for p in controls.registry().params if system in p.systems and not p.base}
     eng.values.update({k: v for k, v in controls.values_of(eng.scenario, eng.item).items() if k in own_keys})
@@ -58,8 +64,8 @@ def _item_action(eng, a, value, own: bool) -> None:
 
 def _view_action(eng, a, value, own: bool) -> None:
     """A value the figure is drawn with (physics.figure.View's field ``a.key``), within [lo, hi]."""
-    v = float(value)
-    if not math.isfinite(v):
+    v = _number_sent(value)
+    if v is None:
         raise ValueError(f"{a.label} {value!r}: expected a number in [{a.lo:g}, {a.hi:g}]")
     eng.view_values[a.key] = min(max(v, a.lo), a.hi)
 
@@ -121,13 +127,32 @@ def _reset(eng, _value) -> None:
 
 
 def _set_warp(eng, value) -> None:
-    eng.clock.set_warp(float(value))
+    warp = _number_sent(value)
+    if warp is None:  # float() would pass "inf" on as a number, and say "could not convert string" of the rest
+        raise ValueError(f"time warp {value!r}: expected a number of times real time "
+                         f"({presets.WARP_MIN:g}x to {presets.WARP_MAX:g}x)")
+    eng.clock.set_warp(warp)
+
+
+def _number_sent(value) -> float | None:
+    """A finite number a client sent as a number or as text ("2.5"), else None (a word, a table, NaN, inf)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        return None
+    try:
+        v = float(value)
+    except (ValueError, OverflowError):  # "abc"; an int of a thousand digits
+        return None
+    return v if math.isfinite(v) else None
 
 
 def _preset(eng, value) -> None:
     from .mesh import asset_names
 
     kept = eng.mesh.name if eng.mesh is not None and eng.mesh.name in asset_names() else None
+    names = presets.preset_names()
+    if not isinstance(value, str) or (value != presets.DEFAULT and value not in names):
+        raise ValueError(f"preset {str(value)[:40]!r}: expected one of the presets ({len(names)}, as the "
+                         "Scene menu lists them)")
     sc = presets.load_preset(value)
     eng.mesh = None  # a preset brings its own body...
     eng._load(sc, value)

@@ -309,6 +309,8 @@ class Engine:
                 self.clock.changed()
         except physics.ScenarioError as exc:
             self.error = str(exc)
+        except ValueError as exc:  # an action's value refused in its own words (they name it and what is allowed)
+            self.error = str(exc) or type(exc).__name__
         except Exception as exc:  # never let a bad input kill the loop
             self.error = f"{type(exc).__name__}: {exc}"
         self.applied_seq = seq
@@ -606,3 +608,4 @@ def _edit_names(pending: dict, item: str = "item") -> str:
 
 __all__ = ["EDITS_LISTED", "HISTORY_ROWS", "PLOT_POINTS", "RECENT", "SAMPLES_PER_FRAME", "TRAIL_POINTS", "VIEWS",
            "WHOLE_RUN", "WHOLE_RUN_POINTS", "Engine", "Frame"]
+
