@@ -167,3 +167,17 @@ def test_a_bob_number_that_is_no_whole_number_is_refused_naming_the_bobs_it_may_
     eng.tick(1.0 / FRAME_HZ)
     assert eng.item == len(eng.scenario.to_dict()["plane_pendulum"]) - 1
 
+
+def test_a_value_that_is_not_a_number_is_judged_even_for_another_systems_slider():
+    """body.B = None is a value (an axisymmetric body) and was applied, then failed comparing None with the
+    slider's end ("TypeError: '>' not supported..."), which undid it; kept as the slider's value, it would have
+    failed the panel's next sync the same way, so the slider shows the B it resolves to. A list sent to the
+    wheel's slider while a moving-mass scene runs was kept unjudged and failed the same way."""
+    eng = Engine()
+    eng.request_value("body.B", None)
+    eng.tick(1.0 / FRAME_HZ)
+    assert eng.error == "" and eng.scenario.body.B == eng.scenario.body.A  # applied: B is A again
+    assert eng.values["body.B"] == eng.scenario.body.A and eng.sliders_changed  # the slider shows the B that runs
+    eng.request_value("wheel.c", [1.0])
+    eng.tick(1.0 / FRAME_HZ)
+    assert eng.error == "wheel.c = [1.0]: must be a number"

@@ -180,7 +180,11 @@ def apply_changes(base: physics.Scenario, changes: dict[str, float | str]) -> ph
             raise physics.ScenarioError(full_key, value, "is not a parameter of the explorer")
         p = by_key[key]
         if system.name not in p.systems:
-            continue  # e.g. a mass slider while a pendulum scene runs: kept for later, not applied
+            # e.g. a mass slider while a pendulum scene runs: kept for later, not applied; but a table or a list
+            # is no slider's value, and it would be kept unjudged
+            if not isinstance(value, (int, float, str)) or isinstance(value, bool):
+                raise physics.ScenarioError(full_key, value, "must be a number")
+            continue
         if p.base or system.edit is None:
             table, _, name = key.partition(".")
             physics.edit_dict(data, f"{table}[{which}].{name}" if which.isdigit() else key, value, base)
