@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import random
+import re
 
 import numpy as np
 import pytest
@@ -25,6 +26,10 @@ ODD = (0.0, math.nan, math.inf, -math.inf, "1", "resonant", None, [1.0], {"a": 1
 ACTIONS = ("play", "pause", "step", "reset", "warp", "preset", "system", "fidelity", "view", "exaggeration",
            "overlay", "tune", "bob", "polhode", "restart_on_change", "accuracy", "pivot", "no such action")
 CHANGES = 400
+# What Python and numpy say of a value they cannot take, which the tab showed before the values were checked where
+# they arrive (a warp of "bogus": "could not convert string to float"; a preset of [1.0]: "unhashable type")
+PYTHONS_WORDS = re.compile(r"[A-Z][A-Za-z]*Error\b|could not convert|invalid literal|unhashable|not supported between"
+                           r"|\(34, 'Numerical result")
 STEPS_PER_TICK_MAX = 400_000  # LiveRun's per-call budget (200k) twice over: a tick is bounded by counts
 
 
@@ -89,6 +94,7 @@ def test_the_engine_survives_anything_a_client_sends(seed):
             rejected += 1
             assert eng.scenario == before or eng.scenario is not None  # the last good scenario stays usable
             assert len(eng.error) < 2000  # said in a line, not a dump
+            assert not PYTHONS_WORDS.search(eng.error), eng.error  # the project's words, naming what was refused
         if fr.status == "fault" and rng.random() < 0.5:
             eng.request("reset")  # as a user would: the fault's own recovery
             eng.tick(1.0 / FRAME_HZ)
@@ -145,6 +151,7 @@ def test_a_flood_of_any_action_queues_a_bounded_few_and_the_latest_counts():
     ("preset", -1e200, "preset '-1e+200': expected one of the presets"),
     ("preset", [1.0], "preset '[1.0]': expected one of the presets"),
     ("exaggeration", {"a": 1}, "exaggerate u (x) {'a': 1}: expected a number in [1, 1000]"),
+    ("system", [1.0], "system = [1.0]: is not one of moving_mass, spherical_pendulum"),  # the storm's seed 85
 ])
 def test_an_action_sent_a_value_it_cannot_take_says_which_and_what_it_takes(action, sent, said):
     eng = Engine()

@@ -103,7 +103,7 @@ def overlay_of(name: str) -> str | None:
 # they fit (system_scenes).
 def system_template(system: str) -> tuple[physics.Scenario, str]:
     """The example scenario of ``system`` and the name the panel shows for it."""
-    if system not in physics.SYSTEMS:
+    if not isinstance(system, str) or system not in physics.SYSTEMS:  # a list from a raw client is unhashable
         raise physics.ScenarioError("system", system, f"is not one of {', '.join(physics.SYSTEMS)}")
     spec = physics.SYSTEMS[system]
     template = physics.Scenario.from_toml(spec.example)
