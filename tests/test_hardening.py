@@ -364,3 +364,22 @@ def test_the_projects_own_errors_keep_their_words_whole():
     long = ScenarioError("run.t_end", 0.1, "needs 5.06e+18 attitude steps of 0.05 rad in the averaged model, more "
                          "than its budget of 2000000; shorten run.t_end or bring the rates nearer")
     assert plain_words(long) == str(long)  # not cut at 120 characters, and no "ScenarioError:" before it
+
+
+def test_a_failure_with_every_value_ordinary_sends_the_user_after_none_of_them():
+    """The engine's storm once saw an overlay's closed form fail in brentq ("f(a) and f(b) must have different
+    signs") on a scene of ordinary values, and the fault said "the most extreme value is run.samples = 1001: bring
+    it nearer the scenario's other scales". Where no value lies outside its usual size, none is blamed."""
+    from physics.core.blame import guarded
+
+    sc = physics.default_scenario().with_values(**{"run.samples": 1001})
+    with pytest.raises(NumericalFault) as info:
+        with guarded(sc, "the overlay"):
+            raise ValueError("f(a) and f(b) must have different signs")
+    text = str(info.value)
+    assert "no value is far from its usual size" in text and "bring it nearer" not in text
+    assert "run.samples" not in text  # samples usually run from 2 to a million: 1001 is no departure
+    with pytest.raises(NumericalFault) as info:  # one value far out: it is named, as before
+        with guarded(sc.with_values(**{"mass.Omega": 1e200}), "the overlay"):
+            raise OverflowError("(34, 'Numerical result out of range')")
+    assert "the most extreme value is mass.Omega = 1e+200: bring it nearer" in str(info.value)

@@ -21,7 +21,8 @@ from physics.core.guarded import RightSideError
 NUMERICAL = (ArithmeticError, np.linalg.LinAlgError, ValueError, RuntimeError)
 # The sizes [run] keys usually take (they have no slider): without them a default rtol = 1e-10, ten decades
 # from 1, was blamed for a fault that mass.chi = 1e12 caused.
-RUN_SPANS = {"run.t_end": (1e-3, 1e6), "run.rtol": (1e-14, 1e-2), "run.dt": (1e-7, 1.0), "run.accuracy": (1e-12, 1.0)}
+RUN_SPANS = {"run.t_end": (1e-3, 1e6), "run.rtol": (1e-14, 1e-2), "run.dt": (1e-7, 1.0), "run.accuracy": (1e-12, 1.0),
+             "run.samples": (2, 1e6)}
 
 
 def _decades(x: float, span: tuple[float, float] | None) -> float:
@@ -63,10 +64,13 @@ def outlier(sc, spans: dict[str, tuple[float, float]] | None = None) -> tuple[st
     """``most_extreme`` when that value lies outside the span its key usually takes (for a key with no span, more
     than OUTLIER_DECADES from 1); None when every value is ordinary."""
     key, value = most_extreme(sc, spans)
-    if not isinstance(value, (int, float)) or isinstance(value, bool):
+    numbers = [x for x in (value if isinstance(value, list) else [value])  # initial.omega is a list
+               if isinstance(x, (int, float)) and not isinstance(x, bool) and x != 0 and math.isfinite(x)]
+    if not numbers:
         return None
     span = {**RUN_SPANS, **(spans or {})}.get(re.sub(r"\[\d+\]", "", key))  # plane_pendulum[0].k: plane_pendulum.k
-    return (key, value) if _decades(float(value), span) > (0.0 if span else OUTLIER_DECADES) else None
+    size = max(_decades(float(x), span) for x in numbers)
+    return (key, value) if size > (0.0 if span else OUTLIER_DECADES) else None
 
 
 # a value of a key with no usual span is an outlier this many decades from 1
@@ -90,12 +94,12 @@ def guarded(sc, what: str, spans: dict[str, tuple[float, float]] | None = None):
         if type(exc) is not IntegrationFault or not exc.t <= EARLY_FRACTION * _t_end(sc):
             raise
         key, value = most_extreme(sc, spans)
-        raise NumericalFault(str(exc), key, value) from exc
+        raise NumericalFault(str(exc), key, value, outlier(sc, spans) is None) from exc
     except ScenarioError:
         raise
     except NUMERICAL as exc:
         key, value = most_extreme(sc, spans)
-        raise NumericalFault(f"{what} failed: {plain_words(exc)}", key, value) from exc
+        raise NumericalFault(f"{what} failed: {plain_words(exc)}", key, value, outlier(sc, spans) is None) from exc
 
 
 def plain_words(exc: BaseException) -> str:

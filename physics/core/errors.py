@@ -37,9 +37,13 @@ class NumericalFault(IntegrationFault):
     """Arithmetic or linear algebra failed on accepted input (an overflow, a singular matrix...): reported
     as a fault like an integration's, naming the key most likely to blame (physics/core/blame.py)."""
 
-    def __init__(self, what: str, key: str, value: object):
-        RuntimeError.__init__(self, f"{what}; the most extreme value is {_cut(_text(key))} = {_show(value)}: "
-                              "bring it nearer the scenario's other scales")
+    def __init__(self, what: str, key: str, value: object, ordinary: bool = False):
+        shown = f"{_cut(_text(key))} = {_show(value)}"
+        # ordinary: no value lies outside the size its key usually takes, so none is to blame, and saying "bring it
+        # nearer" would send the user after a value that is fine (run.samples = 1001 was named so)
+        tail = (f"no value is far from its usual size (the furthest is {shown}): please report this scenario"
+                if ordinary else f"the most extreme value is {shown}: bring it nearer the scenario's other scales")
+        RuntimeError.__init__(self, f"{what}; {tail}")
         self.what, self.t, self.key, self.value = what, 0.0, key, value
 
 
