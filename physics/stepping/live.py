@@ -119,16 +119,13 @@ class LiveRun:
         _require_finite(self.scenario, np.append(K, 0.0 if row_ok else np.nan), what)
 
     @contextmanager
-    def _as_it_was_if_refused(self, scenario: Scenario | None = None):
-        """On ScenarioError inside the block, every attribute back as it was before it (then re-raised); with
-        ``scenario``, an arithmetic failure too, refused as ``_numerical_refused`` says."""
+    def _as_it_was_if_refused(self, scenario: Scenario):
+        """On ScenarioError inside the block, or an arithmetic failure with ``scenario`` (refused as
+        ``_numerical_refused`` says), every attribute back as it was before it (then re-raised)."""
         before = dict(self.__dict__)
         try:
-            if scenario is None:
+            with _numerical_refused(scenario):
                 yield
-            else:
-                with _numerical_refused(scenario):
-                    yield
         except ScenarioError:
             self.__dict__.update(before)
             raise
@@ -195,16 +192,14 @@ class LiveRun:
                                                       self.t, last=self.last, K_keep=K_shown)
             except CannotCarry as exc:
                 note = f"state not kept: {exc}; restarted from t = 0"
-        if carried is None:
-            with self._as_it_was_if_refused():  # refused: the run goes on as it was
-                self._start(scenario, fidelity)
+        if carried is None:  # a refusal from here on leaves the run as it was: retune's block restores it
+            self._start(scenario, fidelity)
             self.energy_change, self.edit, self.edit_note = None, None, note
             return False
         _require_finite(scenario, carried.y, "the state carried over")
-        with self._as_it_was_if_refused():
-            if origin is not None:
-                return self._go_on_closed(scenario, fidelity, res, origin, carried)
-            return self._go_on_state(scenario, fidelity, res, carried)
+        if origin is not None:
+            return self._go_on_closed(scenario, fidelity, res, origin, carried)
+        return self._go_on_state(scenario, fidelity, res, carried)
 
     def _go_on_state(self, scenario: Scenario, fidelity: str | None, res: Resolved, carried) -> bool:
         """Go on from now with the carried state under ``scenario`` (ScenarioError if its row is not finite)."""
