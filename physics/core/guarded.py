@@ -15,7 +15,11 @@ import numpy as np
 
 
 class RightSideError(RuntimeError):
-    """A guarded integration's right side was evaluated too often or was not finite."""
+    """A guarded integration's right side was evaluated too often (``over_budget``) or was not finite, at ``t``."""
+
+    def __init__(self, message: str, t: float = 0.0, over_budget: bool = False):
+        super().__init__(message)
+        self.t, self.over_budget = float(t), over_budget
 
 
 def guarded(fun: Callable, max_calls: int, what: str) -> Callable:
@@ -26,10 +30,10 @@ def guarded(fun: Callable, max_calls: int, what: str) -> Callable:
         nonlocal calls
         calls += 1
         if calls > max_calls:
-            raise RightSideError(f"{what}: more than {max_calls} evaluations of its right side")
+            raise RightSideError(f"{what}: more than {max_calls} evaluations of its right side", t, True)
         out = fun(t, y)
         if not np.all(np.isfinite(out)):
-            raise RightSideError(f"{what}: its right side is not finite (NaN or infinity) at t = {float(t):.6g}")
+            raise RightSideError(f"{what}: its right side is not finite (NaN or infinity) at t = {float(t):.6g}", t)
         return out
 
     return g

@@ -49,6 +49,7 @@ import numpy as np
 from physics.compiled import dispatch as kernels
 from physics.compiled import dop853, fixed, midpoint
 from physics.core.errors import IntegrationFault, ScenarioError
+from physics.core.guarded import RightSideError, guarded
 from physics.core.tolerance import ATOL_FACTOR, atol_for  # noqa: F401 - ATOL_FACTOR: simulate's public name
 from physics.scenario.params import FIXED_STEP_METHODS
 from physics.systems.cost import brake_and_medium  # noqa: F401 - also the stepper's public name
@@ -328,13 +329,9 @@ class Stepper:
         def fun(tt, y):
             nonlocal evaluations
             evaluations += 1
-            if evaluations > max_evals:
-                raise _Stopped(tt)
             if progress and evaluations % 1000 == 0:
                 progress(min(1.0, (tt - t[0]) / (t[-1] - t[0])))
             self.rhs(tt, y, p, out)
-            if not np.all(np.isfinite(out)):  # scipy would reject steps with a NaN error norm, then blame the step size
-                raise _Stopped(tt, STATUS_TEXT[NONFINITE].replace("state", "the right-hand side"))
             return out.copy()
 
         events = None
@@ -347,11 +344,13 @@ class Stepper:
             brake.terminal = True
             events = brake
         try:
-            sol = solve_ivp(fun, (t[0], t[-1]), y0, method=method, t_eval=t, rtol=self.rtol, atol=self.atol,
-                            events=events)
-        except _Stopped as stop:
-            raise IntegrationFault(f"scipy {method}: " + (stop.why or f"more than {max_evals} evaluations of the "
-                                   'right-hand side (the budget of a run); use method "auto"'), stop.t) from None
+            # guarded: scipy has no step budget, and would reject steps with a NaN error norm, then blame the step size
+            sol = solve_ivp(guarded(fun, max_evals, f"scipy {method}"), (t[0], t[-1]), y0, method=method, t_eval=t,
+                            rtol=self.rtol, atol=self.atol, events=events)
+        except RightSideError as stop:
+            why = (f"more than {max_evals} evaluations of the right-hand side (the budget of a run); use method "
+                   '"auto"' if stop.over_budget else STATUS_TEXT[NONFINITE].replace("state", "the right-hand side"))
+            raise IntegrationFault(f"scipy {method}: {why}", stop.t) from None
         if sol.status == -1:  # scipy's own words, but for the one failure the compiled steppers name too
             why = STATUS_TEXT[UNDERFLOW] if "spacing between numbers" in sol.message else sol.message
             ts = np.asarray(sol.t)  # scipy leaves t a list where it failed before the first output time
@@ -363,11 +362,3 @@ class Stepper:
             reason = STATUS_TEXT[BRAKED]
         return Y, t_out, dict(method=method_label(self.model, method, self._pick), nfev=int(sol.nfev),
                               steps=getattr(sol, "nsteps", None), stop_reason=reason, t_stop=float(t_out[-1]))
-
-
-class _Stopped(Exception):
-    """scipy's run stopped from inside its right-hand side: past the budget, or (``why``) on a value it cannot use."""
-
-    def __init__(self, t: float, why: str = ""):
-        self.t = float(t)
-        self.why = why
