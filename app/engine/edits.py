@@ -56,7 +56,7 @@ def _with_unit(key: str, value: float, text: str | None = None) -> str:
     """``value`` with the slider's unit; ``text``: as the user typed it, quoted instead of the number."""
     if text is not None:  # a number as typed (app.engine.typed read it): 1e308, 1,5
         return f"{text.strip()} {controls.BY_KEY[key].unit}".strip()
-    if not _number(value):  # a raw client's string, list or None: as it came, with no unit
+    if not is_number(value):  # a raw client's string, list or None: as it came, with no unit
         return repr(value)[:40]
     unit = controls.BY_KEY[key].unit
     return f"{controls.fmt(value)} {unit}".strip()
@@ -71,7 +71,7 @@ def rejected_text(key: str, value: float, reason: str, kept: float | None, text:
     elif reason.startswith(head) and ": " in reason:
         reason = reason.partition(": ")[2]
     p = controls.BY_KEY.get(key)
-    if p is not None and _number(value) and value < 0 and re.search(r"\b0 = no", p.hint):
+    if p is not None and is_number(value) and value < 0 and re.search(r"\b0 = no", p.hint):
         reason += f" (0 removes the {key.partition('.')[0]})"  # a switch: the Param says that 0 means none
     stays = "" if kept is None else f" {_name(key)} stays {_with_unit(key, kept)}."
     return f"Rejected: {_name(key)} = {_with_unit(key, value, text)}: {reason.rstrip('.')}.{stays}"
@@ -114,7 +114,8 @@ def fault_text(message: str, key: str | None) -> str:
             "of just before it come back) or reset the scene (its parameters as loaded, from t = 0).")
 
 
-def _number(value) -> bool:
+def is_number(value) -> bool:
+    """A number a slider can take and show (not a word such as "resonant", None, a bool, a list or a table)."""
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
@@ -178,7 +179,7 @@ class Guard:
             texts = {k: self._texts.pop(k) for k in list(self._texts) if any(f.partition("#")[0] == k for f in pending)}
         for full_key, value in pending.items():
             key = full_key.partition("#")[0]
-            if key not in controls.BY_KEY or not _number(value):
+            if key not in controls.BY_KEY or not is_number(value):
                 accepted[full_key] = value  # not a slider value: apply_changes judges it
                 self.screened = None
                 continue

@@ -354,13 +354,15 @@ class Engine:
         self.changes = changes
         for k, v in pending.items():
             key, _, which = k.partition("#")
-            if _real(v) and (not which or int(which) == (self.item or 0)):
+            if edits.is_number(v) and (not which or int(which) == (self.item or 0)):
                 p = controls.BY_KEY.get(key)
                 if p is not None and controls.slider_range(p, v) != controls.slider_range(p, self.values[key]):
                     self.sliders_changed = True  # the slider's span widens to show the value (or narrows back)
                 self.values[key] = v
-        worded = [k.partition("#")[0] for k, v in changes.items() if not _real(v)]
-        if worded:  # a value given in words ("resonant") or none (body.B): its slider shows what it resolves to
+        # a value given in words ("resonant") or none (body.B = None, an axisymmetric body): its slider shows what
+        # the scenario resolves it to
+        worded = [k.partition("#")[0] for k, v in changes.items() if not edits.is_number(v)]
+        if worded:
             resolved = controls.values_of(sc, self.item)
             self.values.update({k: resolved[k] for k in worded if k in resolved})
             self.sliders_changed = True
@@ -608,9 +610,3 @@ def _edit_names(pending: dict, item: str = "item") -> str:
 
 __all__ = ["EDITS_LISTED", "HISTORY_ROWS", "PLOT_POINTS", "RECENT", "SAMPLES_PER_FRAME", "TRAIL_POINTS", "VIEWS",
            "WHOLE_RUN", "WHOLE_RUN_POINTS", "Engine", "Frame"]
-
-
-def _real(value) -> bool:
-    """A number a slider can show. body.B = None (an axisymmetric body) and pendulum.k = "resonant" are values
-    too: their sliders show what the scenario resolves them to."""
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
