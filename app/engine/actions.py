@@ -149,11 +149,11 @@ def _preset(eng, value) -> None:
     from .mesh import asset_names
 
     kept = eng.mesh.name if eng.mesh is not None and eng.mesh.name in asset_names() else None
-    names = presets.preset_names()
-    if not isinstance(value, str) or (value != presets.DEFAULT and value not in names):
-        raise ValueError(f"preset {str(value)[:40]!r}: expected one of the presets ({len(names)}, as the "
-                         "Scene menu lists them)")
-    sc = presets.load_preset(value)
+    try:
+        sc = presets.load_preset(value)
+    except (KeyError, TypeError):  # not a preset's name (TypeError: a list from a raw client is unhashable)
+        raise ValueError(f"preset {str(value)[:40]!r}: expected one of the presets ({len(presets.preset_names())}, "
+                         "as the Scene menu lists them)") from None
     eng.mesh = None  # a preset brings its own body...
     eng._load(sc, value)
     eng.error = ""
