@@ -29,6 +29,9 @@ STUDIES = {
                                                  "swing, against the full model (issue 23)"),
     "pendulum-ceiling": ("pendulum_ceiling", "the most of the oracle's cheap runs auto could take with the pendulum's "
                                              "estimate as built, its safety factors fitted (issue 23)"),
+    "pendulum-prediction": ("pendulum_prediction", "the pendulum's nonlinear error predicted by coefficients that "
+                                                   "follow the spin-up, swing and arm, against the measured error "
+                                                   "(issue 23)"),
     "explorer-startup": ("explorer_startup", "time from `python -m app` to the scene drawn in chromium (--cold: "
                                              "first start)"),
 }

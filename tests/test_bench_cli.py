@@ -41,6 +41,7 @@ OPTIONS = {
     "design": ["--n", "--workers", "--out", "--img"],
     "pendulum-hardening": ["--study", "--limit", "--out", "--img"],
     "pendulum-ceiling": ["--study", "--out", "--img"],
+    "pendulum-prediction": ["--study", "--workers", "--out", "--img"],
     "explorer-startup": ["repetitions", "--cold", "--inline", "--compare-env-map", "--fast-timeout"],
 }
 

@@ -1,0 +1,255 @@
+"""``python -m bench pendulum-prediction``: can the spherical pendulum's nonlinear error be predicted, sign and
+size, rather than bracketed? A measurement for issue 23's open point 4, not a model of the product.
+
+``python -m bench pendulum-ceiling`` showed that no factor on today's brackets lets auto take 80 % of the oracle's
+cheap pendulum runs: the detuning and rate gaps say how far the averaged theta could move, not which way it does.
+Here the full model's departure from exact linear theory is predicted by the averaged equations of B.6 with their
+coefficients following the amplitudes, and the prediction is compared with the error the fidelity studies measured.
+
+Three amplitude effects are followed, each in every coefficient (sigma, gamma1, kappa1, kappa2), not in sigma alone:
+
+- the spin-up: K is fixed, so omega_z = K cos(theta)/C rises as the nutation decays; the coefficients take
+  W (1 + (theta0^2 - theta^2)/2). At resonance sigma moves only at second order, but gamma1 = ct lambda1/(2
+  omega_0) with lambda1 = omega_0 - W moves at first order by -dW/lambda1, large where lambda1 << W;
+- the pivot's hardening: the bob's mode-1 frequency rises by SWING_SHIFT omega_0 a^2 with its swing a = |Ut|
+  (physics/systems/pendulum/accuracy.py), taken as k (1 + SWING_SHIFT a^2)^2;
+- the arm: a bob swinging at a sits l (1 - cos a) nearer its pivot along the axis, so the coupling's lever D (the
+  bob's rest height over the system's centre of mass, along e3) becomes D - l (1 - cos a). The linear coupling is
+  proportional to D, its change to l a^2/2: a relative change of (l/D) a^2/2, large for a bob hung near the
+  centre of mass (|D| << l).
+
+The predicted full theta is theta_linear + (theta_following - theta_fixed) (the same integrator, coefficients
+following or fixed), read in the K-fixed mapping sin(theta) = |H_perp|/K where the averaged model and linear theory
+use tan(theta) = |H_perp|/(C W); the predicted error is its largest distance from the product's averaged theta over
+[0, t_end]. ``sigma_only`` is the same with sigma alone following the spin-up and the swing
+(bench/pendulum_hardening.py's model); ``no_arm`` follows every coefficient but leaves D fixed. ``spread`` is how
+far the prediction moves when the hardening is taken 30 % weaker or stronger.
+
+The summary gives, for each prediction, the distribution of actual / predicted and, for an estimate S x
+prediction, the violations (actual above it) and auto's share of the oracle's cheap runs at 1e-2 and 1e-3 rad;
+and the best estimate of the form S_p prediction + S_n max(detuning_gap, rate_gap) + S_s spread with no violation,
+fitted with no margin on these rows (the frontier the bracket parts still impose).
+
+Writes bench/results/pendulum_prediction.csv (+ .meta.json: machine, command, summary) and
+docs/img/pendulum_prediction.png (actual error against the prediction and against the product's estimate).
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import math
+import sys
+import time
+import warnings
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+import physics
+from bench.pendulum_ceiling import ACCURACIES, shares, study_rows
+from bench.pendulum_hardening import detuned_theta
+from bench.results_file import write_results
+from physics.scenario.initial import initial_G
+from physics.systems.pendulum.accuracy import SWING_SHIFT, scenario_parts
+from physics.systems.pendulum.averaged import AveragedCoefficients, averaged_theta
+from physics.systems.pendulum.geometry import pendulum_system
+from physics.systems.pendulum.linear import spherical_linear, state_matrix, transverse_momentum_matrix
+from physics.systems.pendulum.propagate import propagate
+
+ROOT = Path(__file__).resolve().parent.parent
+RESULTS = ROOT / "bench" / "results"
+POINTS = 4001  # grid over [0, t_end]: the studies' runs last at most a few e-folding times of the slow mode
+PREDICTIONS = ("sigma_only", "no_arm", "prediction")
+HARDENING_SPREAD = 0.3  # the hardening taken this much weaker and stronger for ``spread``
+S_PREDICTION = (1.05, 1.1, 1.2, 1.3, 1.5, 2.0)
+S_BRACKET = (0.0, 0.1, 0.2, 0.3, 0.5, 0.75, 1.0)
+S_SPREAD = (0.0, 0.5, 1.0, 2.0)
+COLUMNS = ("study", "index", "actual", "estimate", "linear", "detuning", "rate", *PREDICTIONS, "spread",
+           "swing", "shift_over_width", "D_over_l")
+
+
+def following_theta(sc, t: np.ndarray, spin: float, hardening: float, arm: float) -> np.ndarray:
+    """theta (tan mapping, as the averaged model reads it) at times t from the averaged equations of B.6 with every
+    coefficient computed at W (1 + spin (theta0^2 - theta^2)/2), k (1 + hardening SWING_SHIFT a^2)^2 and D - arm l
+    (1 - cos a), a = |Ut| (module docstring); DOP853 at rtol 1e-9. NaN where the integration stops early."""
+    p = spherical_linear(pendulum_system(sc))
+    co = AveragedCoefficients(p)
+    w0, _, _ = initial_G(sc)
+    u0 = np.array([w0[0] + 1j * w0[1], 0j])
+    rise = hardening * SWING_SHIFT[sc.pendulum.pivot]
+    Ab, cu = co.A + p.mu * p.D**2, 1j * p.mu * p.D * p.l * p.omega0
+
+    def angle(P, U):
+        return np.arctan2(np.abs(Ab * P + cu * U), p.C * p.W)
+
+    theta0 = float(angle(u0[0], u0[1]))
+
+    def rhs(_, y):
+        P, U = y[0] + 1j * y[1], y[2] + 1j * y[3]
+        a = min(abs(U), math.pi)
+        c = AveragedCoefficients(replace(p, W=p.W * (1 + spin * (theta0**2 - float(angle(P, U)) ** 2) / 2),
+                                         k=p.k * (1 + rise * a * a) ** 2, D=p.D - arm * p.l * (1 - math.cos(a))))
+        dP, dU = c.kappa1 * U, (1j * c.sigma - c.gamma1) * U - c.kappa2 * P
+        return [dP.real, dP.imag, dU.real, dU.imag]
+
+    sol = solve_ivp(rhs, (0.0, float(t[-1])), [u0[0].real, u0[0].imag, 0.0, 0.0], t_eval=t, method="DOP853",
+                    rtol=1e-9, atol=1e-13 * abs(u0[0]) + 1e-300)
+    if sol.y.shape[1] != len(t):
+        return np.full(len(t), math.nan)
+    return angle(sol.y[0] + 1j * sol.y[1], sol.y[2] + 1j * sol.y[3])
+
+
+def measure(row: dict) -> dict | None:
+    """The row's predictions; None where the product's estimate has none."""
+    sc = physics.Scenario.from_dict(json.loads(row["scenario"]))
+    q = scenario_parts(sc)
+    if not math.isfinite(q.bound):
+        return None
+    p = spherical_linear(pendulum_system(sc))
+    w0, _, _ = initial_G(sc)
+    t = np.linspace(0.0, float(sc.run.t_end), POINTS)
+    Y = propagate(state_matrix(p), np.array([w0[0], w0[1], 0.0, 0.0, 0.0, 0.0]), t)
+    H = Y @ transverse_momentum_matrix(p).T
+    th_lin = np.arctan2(np.hypot(H[:, 0], H[:, 1]), p.C * p.W)
+    th_avg, _ = averaged_theta(AveragedCoefficients(p), np.array([w0[0] + 1j * w0[1], 0j]), p.W, t)
+    c0 = math.cos(float(th_lin[0]))
+
+    def k_fixed(th):  # tan(theta) = |H_perp|/(C W)  ->  sin(theta) = |H_perp|/K, K = C W / cos(theta0)
+        return np.arcsin(np.clip(np.tan(th) * c0, -1.0, 1.0))
+
+    with np.errstate(all="ignore"):
+        fixed = following_theta(sc, t, 0.0, 0.0, 0.0)
+        moved = dict(sigma_only=detuned_theta(sc, t, 1.0, 1.0) - detuned_theta(sc, t, 0.0, 0.0),
+                     no_arm=following_theta(sc, t, 1.0, 1.0, 0.0) - fixed,
+                     prediction=following_theta(sc, t, 1.0, 1.0, 1.0) - fixed)
+        spread = max(float(np.max(np.abs(following_theta(sc, t, 1.0, h, 1.0) - fixed - moved["prediction"])))
+                     for h in (1 - HARDENING_SPREAD, 1 + HARDENING_SPREAD))
+    out = dict(study=row["study"], index=row["index"], actual=row["actual"], estimate=q.bound,
+               linear=q.linear_gap + q.polhode_gap, detuning=q.detuning_gap, rate=q.rate_gap,
+               spread=spread if math.isfinite(spread) else math.inf, swing=q.a,
+               shift_over_width=q.shift / q.width if q.width > 0 else math.inf, D_over_l=p.D / p.l)
+    for name, d in moved.items():
+        e = float(np.max(np.abs(k_fixed(th_lin + d) - th_avg)))
+        out[name] = e if math.isfinite(e) else math.inf
+    return out
+
+
+def summary(rows: list[dict]) -> dict:
+    col = {k: np.array([r[k] for r in rows], dtype=float) for k in COLUMNS[2:]}
+    actual = col["actual"]
+    out = dict(scenarios=len(rows), product=dict(violations=int(np.sum(actual > col["estimate"])),
+                                                  worst=float(np.max(actual / col["estimate"])),
+                                                  **shares(actual, col["estimate"])))
+    for name in PREDICTIONS:
+        ratio = actual / col[name]
+        out[name] = dict(
+            ratio_percentiles={str(q): float(np.percentile(ratio, q)) for q in (1, 5, 25, 50, 75, 95, 99, 100)},
+            within_10_percent=int(np.sum(np.abs(ratio - 1) <= 0.1)),
+            scaled=[dict(S=s, violations=int(np.sum(actual > s * col[name])),
+                         **{f"share_{k}": v["share"] for k, v in shares(actual, s * col[name]).items()})
+                    for s in S_PREDICTION])
+    bracket = np.maximum(col["detuning"], col["rate"])
+    best = None
+    for sp, sn, ss in itertools.product(S_PREDICTION, S_BRACKET, S_SPREAD):
+        est = sp * col["prediction"] + sn * bracket + ss * col["spread"]
+        if np.any(actual > est):
+            continue
+        s = shares(actual, est)
+        low = min(v["share"] for v in s.values())
+        if best is None or low > best["lowest_share"]:
+            best = dict(S_prediction=sp, S_bracket=sn, S_spread=ss, lowest_share=low,
+                        worst=float(np.max(actual / est)), **s)
+    out["best_bound"] = best
+    return out
+
+
+def chart(rows: list[dict], result: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    actual = np.array([r["actual"] for r in rows])
+    fig, axes = plt.subplots(1, 2, figsize=(10.5, 4.6), sharey=True)
+    for ax, key, title in ((axes[0], "prediction", "the prediction (coefficients following spin-up, swing, arm)"),
+                           (axes[1], "estimate", "the product's estimate (brackets x SAFETY)")):
+        x = np.array([r[key] for r in rows])
+        ax.loglog(x, actual, ".", ms=3, alpha=0.6, color="C0" if key == "prediction" else "C1")
+        lo, hi = 1e-7, 1.0
+        ax.plot([lo, hi], [lo, hi], color="k", lw=0.8, label="actual = x")
+        ax.plot([lo, hi], [1.5 * lo, 1.5 * hi], color="0.5", lw=0.8, ls="--", label="actual = 1.5 x")
+        for acc in ACCURACIES:
+            ax.axhline(acc, color="C3", lw=0.5, ls=":")
+            ax.axvline(acc, color="C3", lw=0.5, ls=":")
+        ax.set(xlim=(lo, hi), ylim=(lo, hi), xlabel=f"{key} (rad)", title=title)
+        ax.title.set_fontsize(9)
+        ax.legend(fontsize=7, loc="upper left")
+    axes[0].set_ylabel("actual max |theta_averaged - theta_full| (rad)")
+    p = result["prediction"]["ratio_percentiles"]
+    fig.suptitle(f"Spherical pendulum, {result['scenarios']} scenarios: actual/prediction median {p['50']:.2f}, "
+                 f"5-95 % {p['5']:.2f}-{p['95']:.2f}, worst {p['100']:.1f}", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _measure_quietly(row: dict) -> dict | None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return measure(row)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m bench pendulum-prediction", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--study", type=Path, nargs="*", default=None,
+                    help="fidelity studies' CSVs (default: every bench/results/fidelity*.csv)")
+    ap.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    ap.add_argument("--out", type=Path, default=RESULTS)
+    ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img")
+    args = ap.parse_args(argv)
+    if args.workers < 1:
+        ap.error(f"--workers {args.workers}: must be at least 1")
+    paths = args.study if args.study else sorted(RESULTS.glob("fidelity*.csv"))
+    missing = [str(p) for p in paths if not p.is_file()]
+    if missing:
+        ap.error(f"--study {' '.join(missing)}: no such file (a CSV written by python -m bench fidelity)")
+    picked = study_rows(paths)
+    if not picked:
+        ap.error("no averaged spherical-pendulum row with a measured error in " + ", ".join(map(str, paths)))
+    t0 = time.perf_counter()
+    rows = []
+    with ProcessPoolExecutor(args.workers) as pool:
+        for n, m in enumerate(pool.map(_measure_quietly, picked, chunksize=4), 1):
+            if m is not None:
+                rows.append(m)
+            print(f"\r{n}/{len(picked)} scenarios", end="", file=sys.stderr, flush=True)
+    print(file=sys.stderr)
+    result = summary(rows)
+    write_results(args.out, "pendulum_prediction", COLUMNS, rows,
+                  command=" ".join(["python -m bench pendulum-prediction", *(sys.argv[1:] if argv is None else argv)]),
+                  studies=[p.name for p in paths], wall_s=time.perf_counter() - t0, summary=result)
+    args.img.mkdir(parents=True, exist_ok=True)
+    chart(rows, result, args.img / "pendulum_prediction.png")
+    pr = result["product"]
+    print(f"{len(rows)} scenarios; the product's estimate: {pr['violations']} violations, "
+          + ", ".join(f"{a:g} rad {pr[f'{a:g}']['share']:.0%}" for a in ACCURACIES))
+    for name in PREDICTIONS:
+        q = result[name]["ratio_percentiles"]
+        print(f"{name}: actual/predicted median {q['50']:.2f}, 5-95 % {q['5']:.2f}-{q['95']:.2f}, 99 % {q['99']:.2f},"
+              f" worst {q['100']:.2f}; within 10 %: {result[name]['within_10_percent']}")
+    b = result["best_bound"]
+    if b is None:
+        print("no estimate of the form S_p prediction + S_n bracket + S_s spread tried leaves every row within it")
+    else:
+        print(f"best with no violation: {b['S_prediction']:g} prediction + {b['S_bracket']:g} max(detuning, rate) + "
+              f"{b['S_spread']:g} spread: " + ", ".join(f"{a:g} rad {b[f'{a:g}']['share']:.0%}" for a in ACCURACIES))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
