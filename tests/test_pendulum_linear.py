@@ -357,3 +357,19 @@ def test_eq16_plane_pendulum_damping_is_corrected_form():
     assert corrected == pytest.approx(-ct / 2, rel=1e-12)
     assert measured == pytest.approx(corrected, rel=RATE_TOL)
     assert abs(printed - measured) / abs(measured) > PRINTED_OFF
+
+
+def test_an_e_crossing_within_rounding_of_a_grid_point_is_that_point():
+    """theta evaluated at one time can differ in its last bits from theta on the grid. Where the e-crossing falls
+    on a grid point (here t = 2 s on the 0.08 s grid), both ends of the bracket can then sit on the same side of
+    theta0/e: the crossing is that grid point, where a root finder would stop on "f(a) and f(b) must have
+    different signs" (seen once in the explorer's overlay of the closed form)."""
+    from physics.systems.pendulum.linear import first_e_crossing
+
+    def theta(t):
+        t = np.asarray(t, dtype=float)
+        return np.exp(-t / 2.0) + (3e-16 if t.size == 1 else 0.0)
+
+    assert first_e_crossing(theta, 0.5, 1.0) == 2.0
+    assert first_e_crossing(lambda t: np.exp(-np.asarray(t, dtype=float) / 2.0), 0.5, 1.0) == pytest.approx(2.0,
+                                                                                                          rel=1e-12)

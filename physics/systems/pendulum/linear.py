@@ -228,9 +228,20 @@ def first_e_crossing(theta, rate: float, fastest: float) -> float:
         hit = np.nonzero(th <= target if rate > 0 else th >= target)[0]
         if hit.size:
             i = hit[0]
+            if i == 0:
+                return 0.0
+
+            def gap(tt: float) -> float:
+                return float(theta(np.array([tt]))[0]) - target
+
+            # theta at one time and on the grid may differ in the last bits, so where the crossing lies within
+            # rounding of a grid point the bracket's ends can show the same sign: that end is the crossing
+            ga, gb = gap(t[i - 1]), gap(t[i])
+            if not ga * gb < 0:
+                return float(t[i] if abs(gb) <= abs(ga) else t[i - 1])
             from scipy.optimize import brentq  # here: scipy.optimize adds 0.2 s to the app's start
 
-            return brentq(lambda tt: float(theta(np.array([tt]))[0]) - target, t[i - 1], t[i], xtol=1e-12)
+            return brentq(gap, t[i - 1], t[i], xtol=1e-12)
         if horizon >= 60.0 / abs(rate):
             return math.inf
         horizon *= 2
