@@ -56,3 +56,81 @@ def test_a_host_or_origin_given_twice_is_a_bad_request_not_a_server_error(app, e
     status, body = _get(app.port, "/", tuple(h.format(port=app.port) for h in extra))
     assert status == 400
     assert b"more than once" in body
+
+
+@pytest.mark.parametrize("sent, kept", [(b"", False), (b"GET / HT", False),
+                                         (b"NOT HTTP AT ALL\r\n\r\n", True)])
+def test_a_connection_closed_before_its_request_leaves_no_traceback(sent, kept):
+    """chromium opens speculative connections to a page's origin and may close them unused; websockets logged each
+    as a failed opening handshake with its traceback, and viser's own filter drops those records only from the
+    first request it serves on (a browser test's server log once failed on a preconnect closed before that). The
+    explorer's filter, judged alone here, drops the record of a client that closed before its request was whole
+    (websockets' own exception, from its protocol fed what the client sent) and keeps a malformed request's."""
+    import logging
+
+    from websockets.server import ServerProtocol
+
+    from app.serve import guard
+
+    guard.install()
+    protocol = ServerProtocol()
+    if sent:
+        protocol.receive_data(sent)
+    protocol.receive_eof()
+    exc = protocol.handshake_exc
+    assert exc is not None
+
+    records: list[logging.LogRecord] = []
+
+    class Keep(logging.Handler):
+        def emit(self, record):
+            records.append(record)
+
+    logger = logging.getLogger("websockets.server")
+    keep, filters = Keep(), logger.filters[:]
+    logger.filters = [f for f in filters if type(f).__module__ == guard.__name__]  # not viser's, if it added one
+    assert logger.filters
+    logger.addHandler(keep)
+    try:  # as websockets' server logs it (websockets/asyncio/server.py, conn_handler)
+        logging.LoggerAdapter(logger, {}).error("opening handshake failed",
+                                                exc_info=(type(exc), exc, exc.__traceback__))
+    finally:
+        logger.removeHandler(keep)
+        logger.filters = filters
+    assert len(records) == (1 if kept else 0)
+
+
+def test_connections_closed_unused_at_start_print_no_traceback():
+    """End to end: the explorer's server, before it has served any request (when viser's own filter is not yet
+    there), gets three connections closed without a byte, as a browser's unused preconnects are."""
+    import queue
+    import re
+    import subprocess
+    import sys
+    import threading
+    import time
+    from pathlib import Path
+
+    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=Path(__file__).resolve().parents[1],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines: queue.Queue = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
+    log, port, deadline = [], None, time.monotonic() + 120
+    try:
+        while port is None and time.monotonic() < deadline and proc.poll() is None:
+            try:
+                log.append(lines.get(timeout=1.0))
+            except queue.Empty:
+                continue
+            m = re.search(r"ready in .*: http://127\.0\.0\.1:(\d+)", log[-1])
+            port = int(m.group(1)) if m else None
+        assert port is not None, "".join(log)
+        for _ in range(3):
+            socket.create_connection(("127.0.0.1", port), timeout=10).close()
+        time.sleep(2.0)  # no request in between: one would install viser's filter before their records
+        while not lines.empty():
+            log.append(lines.get())
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+    assert not any("Traceback" in line or "handshake failed" in line for line in log), "".join(log)

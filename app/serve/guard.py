@@ -15,6 +15,7 @@ viser builds its websockets server inside a closure, so the check is installed b
 from __future__ import annotations
 
 import http
+import logging
 import threading
 
 LOOPBACK_NAMES = ("127.0.0.1", "localhost", "[::1]", "::1")
@@ -79,12 +80,32 @@ def refuse_share_tunnel(server) -> None:
             handlers.pop(cls, None)
 
 
+class _ClosedBeforeRequest(logging.Filter):
+    """websockets logs every failed opening handshake as an error with its traceback, a client that closed the
+    connection before its request was whole among them: a browser's speculative preconnect that it never used
+    (chromium opens them to a page's origin), a port probe. Nobody's request failed there, so that record is
+    dropped. viser drops every such record too, but only from the first request it serves on: a preconnect
+    closed before that printed a traceback at start (a browser test's server log once failed on it). Installed
+    before the server starts; a request that arrived and was malformed is left to viser's rule."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.getMessage() != "opening handshake failed" or not record.exc_info:
+            return True
+        exc = record.exc_info[1]
+        while exc is not None:
+            if isinstance(exc, EOFError):
+                return False
+            exc = exc.__cause__ or exc.__context__
+        return True
+
+
 def install() -> None:
     """Wrap websockets' server factory so that every server made afterwards checks requests first."""
     global _installed
     with _lock:
         if _installed:
             return
+        logging.getLogger("websockets.server").addFilter(_ClosedBeforeRequest())
         import websockets.asyncio.server as ws_server
         from websockets.datastructures import Headers
         from websockets.http11 import Response
