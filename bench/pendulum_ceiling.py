@@ -102,6 +102,27 @@ def following_gap(sc) -> float:
     return gap if math.isfinite(gap) else math.inf
 
 
+def add_study_options(ap: argparse.ArgumentParser) -> None:
+    """--study, --out and --img, as the pendulum studies over the fidelity studies' rows take them."""
+    ap.add_argument("--study", type=Path, nargs="*", default=None,
+                    help="fidelity studies' CSVs (default: every bench/results/fidelity*.csv)")
+    ap.add_argument("--out", type=Path, default=RESULTS)
+    ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img")
+
+
+def picked_rows(ap: argparse.ArgumentParser, study: list[Path] | None) -> tuple[list[Path], list[dict]]:
+    """The studies' paths (default: every bench/results/fidelity*.csv) and their rows (``study_rows``); a path
+    that is no file, or no row at all, is the parser's error."""
+    paths = study if study else sorted(RESULTS.glob("fidelity*.csv"))
+    missing = [str(p) for p in paths if not p.is_file()]
+    if missing:
+        ap.error(f"--study {' '.join(missing)}: no such file (a CSV written by python -m bench fidelity)")
+    picked = study_rows(paths)
+    if not picked:
+        ap.error("no averaged spherical-pendulum row with a measured error in " + ", ".join(map(str, paths)))
+    return paths, picked
+
+
 def shares(actual: np.ndarray, estimate: np.ndarray) -> dict:
     """Per accuracy: the oracle's cheap runs (actual <= accuracy), auto's among them, and auto's share."""
     out = {}
@@ -207,18 +228,9 @@ def chart(result: dict, path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m bench pendulum-ceiling", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--study", type=Path, nargs="*", default=None,
-                    help="fidelity studies' CSVs (default: every bench/results/fidelity*.csv)")
-    ap.add_argument("--out", type=Path, default=RESULTS)
-    ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img")
+    add_study_options(ap)
     args = ap.parse_args(argv)
-    paths = args.study if args.study else sorted(RESULTS.glob("fidelity*.csv"))
-    missing = [str(p) for p in paths if not p.is_file()]
-    if missing:
-        ap.error(f"--study {' '.join(missing)}: no such file (a CSV written by python -m bench fidelity)")
-    picked = study_rows(paths)
-    if not picked:
-        ap.error("no averaged spherical-pendulum row with a measured error in " + ", ".join(map(str, paths)))
+    paths, picked = picked_rows(ap, args.study)
     t0 = time.perf_counter()
     rows = []
     with warnings.catch_warnings():

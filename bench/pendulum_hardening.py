@@ -44,15 +44,14 @@ COLUMNS = ("index", "pivot", "theta0", "swing", "shift_over_width", "estimate", 
            *(f"error_{v}" for v in VARIANTS))
 
 
-def detuned_theta(sc, t: np.ndarray, spin: float, swing: float) -> np.ndarray:
-    """theta at times t from the averaged equations of B.6 with sigma(t) = sigma + swing SWING_SHIFT omega_0 |Ut|^2
-    - spin (C/A) W (theta0^2 - theta^2)/2 (DOP853, rtol 1e-9); NaN where the integration stops early."""
-    p = spherical_linear(pendulum_system(sc))
-    co = AveragedCoefficients(p)
-    w0, _, _ = initial_G(sc)
+def averaged_run(p, co: AveragedCoefficients, w0, t: np.ndarray, coefficients) -> np.ndarray:
+    """theta at times t from the averaged equations of B.6, Phihat' = kappa1 Ut, Ut' = (i sigma - gamma1) Ut -
+    kappa2 Phihat, for linear parameters p (coefficients co), started as the product's averaged model starts (the
+    carrier at the initial rate w0, the pendulum at rest), with (kappa1, kappa2, sigma, gamma1) = coefficients(P,
+    U, theta, theta0) at every step, so they may follow the amplitudes; theta read as the averaged model reads it,
+    tan theta = |H_perp|/(C W). DOP853 at rtol 1e-9; NaN where the integration stops early."""
     W = float(w0[2])
     u0 = np.array([w0[0] + 1j * w0[1], 0j])
-    hard = SWING_SHIFT[sc.pendulum.pivot] * p.omega0
     Ab, cu = co.A + p.mu * p.D**2, 1j * p.mu * p.D * p.l * p.omega0  # H1 + i H2 = Ab Phihat + cu Ut
 
     def angle(P, U):
@@ -62,8 +61,8 @@ def detuned_theta(sc, t: np.ndarray, spin: float, swing: float) -> np.ndarray:
 
     def rhs(_, y):
         P, U = y[0] + 1j * y[1], y[2] + 1j * y[3]
-        sigma = co.sigma + swing * hard * abs(U) ** 2 - spin * (p.C / co.A) * W * (theta0**2 - angle(P, U) ** 2) / 2
-        dP, dU = co.kappa1 * U, (1j * sigma - co.gamma1) * U - co.kappa2 * P
+        kappa1, kappa2, sigma, gamma1 = coefficients(P, U, float(angle(P, U)), theta0)
+        dP, dU = kappa1 * U, (1j * sigma - gamma1) * U - kappa2 * P
         return [dP.real, dP.imag, dU.real, dU.imag]
 
     sol = solve_ivp(rhs, (0.0, float(t[-1])), [u0[0].real, u0[0].imag, 0.0, 0.0], t_eval=t, method="DOP853",
@@ -71,6 +70,22 @@ def detuned_theta(sc, t: np.ndarray, spin: float, swing: float) -> np.ndarray:
     if sol.y.shape[1] != len(t):
         return np.full(len(t), math.nan)
     return angle(sol.y[0] + 1j * sol.y[1], sol.y[2] + 1j * sol.y[3])
+
+
+def detuned_theta(sc, t: np.ndarray, spin: float, swing: float) -> np.ndarray:
+    """theta at times t from the averaged equations of B.6 with sigma(t) = sigma + swing SWING_SHIFT omega_0 |Ut|^2
+    - spin (C/A) W (theta0^2 - theta^2)/2 (``averaged_run``)."""
+    p = spherical_linear(pendulum_system(sc))
+    co = AveragedCoefficients(p)
+    w0, _, _ = initial_G(sc)
+    W = float(w0[2])
+    hard = SWING_SHIFT[sc.pendulum.pivot] * p.omega0
+
+    def coefficients(_, U, theta, theta0):
+        sigma = co.sigma + swing * hard * abs(U) ** 2 - spin * (p.C / co.A) * W * (theta0**2 - theta**2) / 2
+        return co.kappa1, co.kappa2, sigma, co.gamma1
+
+    return averaged_run(p, co, w0, t, coefficients)
 
 
 def measure(sc) -> dict:

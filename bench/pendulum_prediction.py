@@ -48,21 +48,17 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 import physics
-from bench.pendulum_ceiling import ACCURACIES, shares, study_rows
-from bench.pendulum_hardening import detuned_theta
+from bench.pendulum_ceiling import ACCURACIES, add_study_options, picked_rows, shares
+from bench.pendulum_hardening import averaged_run, detuned_theta
 from bench.results_file import write_results
 from physics.scenario.initial import initial_G
 from physics.systems.pendulum.accuracy import SWING_SHIFT, scenario_parts
 from physics.systems.pendulum.averaged import AveragedCoefficients, averaged_theta
 from physics.systems.pendulum.geometry import pendulum_system
-from physics.systems.pendulum.linear import spherical_linear, state_matrix, transverse_momentum_matrix
-from physics.systems.pendulum.propagate import propagate
+from physics.systems.pendulum.linear import linear_nutation, spherical_linear
 
-ROOT = Path(__file__).resolve().parent.parent
-RESULTS = ROOT / "bench" / "results"
 POINTS = 4001  # grid over [0, t_end]: the studies' runs last at most a few e-folding times of the slow mode
 PREDICTIONS = ("sigma_only", "no_arm", "prediction")
 HARDENING_SPREAD = 0.3  # the hardening taken this much weaker and stronger for ``spread``
@@ -76,32 +72,18 @@ COLUMNS = ("study", "index", "actual", "estimate", "linear", "detuning", "rate",
 def following_theta(sc, t: np.ndarray, spin: float, hardening: float, arm: float) -> np.ndarray:
     """theta (tan mapping, as the averaged model reads it) at times t from the averaged equations of B.6 with every
     coefficient computed at W (1 + spin (theta0^2 - theta^2)/2), k (1 + hardening SWING_SHIFT a^2)^2 and D - arm l
-    (1 - cos a), a = |Ut| (module docstring); DOP853 at rtol 1e-9. NaN where the integration stops early."""
+    (1 - cos a), a = |Ut| (module docstring; ``averaged_run``)."""
     p = spherical_linear(pendulum_system(sc))
-    co = AveragedCoefficients(p)
     w0, _, _ = initial_G(sc)
-    u0 = np.array([w0[0] + 1j * w0[1], 0j])
     rise = hardening * SWING_SHIFT[sc.pendulum.pivot]
-    Ab, cu = co.A + p.mu * p.D**2, 1j * p.mu * p.D * p.l * p.omega0
 
-    def angle(P, U):
-        return np.arctan2(np.abs(Ab * P + cu * U), p.C * p.W)
-
-    theta0 = float(angle(u0[0], u0[1]))
-
-    def rhs(_, y):
-        P, U = y[0] + 1j * y[1], y[2] + 1j * y[3]
+    def coefficients(_, U, theta, theta0):
         a = min(abs(U), math.pi)
-        c = AveragedCoefficients(replace(p, W=p.W * (1 + spin * (theta0**2 - float(angle(P, U)) ** 2) / 2),
+        c = AveragedCoefficients(replace(p, W=p.W * (1 + spin * (theta0**2 - theta**2) / 2),
                                          k=p.k * (1 + rise * a * a) ** 2, D=p.D - arm * p.l * (1 - math.cos(a))))
-        dP, dU = c.kappa1 * U, (1j * c.sigma - c.gamma1) * U - c.kappa2 * P
-        return [dP.real, dP.imag, dU.real, dU.imag]
+        return c.kappa1, c.kappa2, c.sigma, c.gamma1
 
-    sol = solve_ivp(rhs, (0.0, float(t[-1])), [u0[0].real, u0[0].imag, 0.0, 0.0], t_eval=t, method="DOP853",
-                    rtol=1e-9, atol=1e-13 * abs(u0[0]) + 1e-300)
-    if sol.y.shape[1] != len(t):
-        return np.full(len(t), math.nan)
-    return angle(sol.y[0] + 1j * sol.y[1], sol.y[2] + 1j * sol.y[3])
+    return averaged_run(p, AveragedCoefficients(p), w0, t, coefficients)
 
 
 def measure(row: dict) -> dict | None:
@@ -113,9 +95,7 @@ def measure(row: dict) -> dict | None:
     p = spherical_linear(pendulum_system(sc))
     w0, _, _ = initial_G(sc)
     t = np.linspace(0.0, float(sc.run.t_end), POINTS)
-    Y = propagate(state_matrix(p), np.array([w0[0], w0[1], 0.0, 0.0, 0.0, 0.0]), t)
-    H = Y @ transverse_momentum_matrix(p).T
-    th_lin = np.arctan2(np.hypot(H[:, 0], H[:, 1]), p.C * p.W)
+    th_lin = linear_nutation(p, (w0[0], w0[1]), t)
     th_avg, _ = averaged_theta(AveragedCoefficients(p), np.array([w0[0] + 1j * w0[1], 0j]), p.W, t)
     c0 = math.cos(float(th_lin[0]))
 
@@ -206,21 +186,12 @@ def _measure_quietly(row: dict) -> dict | None:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m bench pendulum-prediction", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--study", type=Path, nargs="*", default=None,
-                    help="fidelity studies' CSVs (default: every bench/results/fidelity*.csv)")
+    add_study_options(ap)
     ap.add_argument("--workers", type=int, default=2, help="processes (default 2)")
-    ap.add_argument("--out", type=Path, default=RESULTS)
-    ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img")
     args = ap.parse_args(argv)
     if args.workers < 1:
         ap.error(f"--workers {args.workers}: must be at least 1")
-    paths = args.study if args.study else sorted(RESULTS.glob("fidelity*.csv"))
-    missing = [str(p) for p in paths if not p.is_file()]
-    if missing:
-        ap.error(f"--study {' '.join(missing)}: no such file (a CSV written by python -m bench fidelity)")
-    picked = study_rows(paths)
-    if not picked:
-        ap.error("no averaged spherical-pendulum row with a measured error in " + ", ".join(map(str, paths)))
+    paths, picked = picked_rows(ap, args.study)
     t0 = time.perf_counter()
     rows = []
     with ProcessPoolExecutor(args.workers) as pool:

@@ -18,18 +18,24 @@ ROOT = Path(__file__).resolve().parent.parent
 ROWS = 16
 
 
-@pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("ceiling")
+def pendulum_study(tmp: Path, n: int) -> tuple[list[dict], Path]:
+    """The check study's first n averaged spherical-pendulum rows, written as a study CSV in tmp: (rows, path)."""
     with open(ROOT / "bench" / "results" / "fidelity.csv", newline="") as f:
         reader = csv.DictReader(f)
-        rows = [r for r in reader if r["system"] == "spherical_pendulum" and r["fidelity"] == "averaged"][:ROWS]
+        rows = [r for r in reader if r["system"] == "spherical_pendulum" and r["fidelity"] == "averaged"][:n]
         fields = reader.fieldnames
     study = tmp / "study.csv"
     with open(study, "w", newline="") as f:
         w = csv.DictWriter(f, fields)
         w.writeheader()
         w.writerows(rows)
+    return rows, study
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("ceiling")
+    rows, study = pendulum_study(tmp, ROWS)
     assert main(["--study", str(study), "--out", str(tmp), "--img", str(tmp)]) == 0
     with open(tmp / "pendulum_ceiling.csv", newline="") as f:
         out = list(csv.DictReader(f))

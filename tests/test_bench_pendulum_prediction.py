@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_bench_pendulum_ceiling import pendulum_study
 
 import physics
 from bench.fidelity import max_theta_error
@@ -64,15 +65,7 @@ def test_the_arm_term_is_third_order_in_the_nutation():
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("prediction")
-    with open(ROOT / "bench" / "results" / "fidelity.csv", newline="") as f:
-        reader = csv.DictReader(f)
-        rows = [r for r in reader if r["system"] == "spherical_pendulum" and r["fidelity"] == "averaged"][:ROWS]
-        fields = reader.fieldnames
-    study = tmp / "study.csv"
-    with open(study, "w", newline="") as f:
-        w = csv.DictWriter(f, fields)
-        w.writeheader()
-        w.writerows(rows)
+    rows, study = pendulum_study(tmp, ROWS)
     assert main(["--study", str(study), "--workers", "1", "--out", str(tmp), "--img", str(tmp)]) == 0
     with open(tmp / "pendulum_prediction.csv", newline="") as f:
         out = list(csv.DictReader(f))
