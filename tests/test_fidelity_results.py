@@ -20,6 +20,7 @@ import pytest
 from bench import fidelity as F
 
 RESULTS = Path(__file__).resolve().parents[1] / "bench" / "results"
+ROOT_DOCS = RESULTS.parents[1] / "docs"
 STUDIES = {"calibration": "fidelity_calibration", "check": "fidelity", "third check": "fidelity_seed6007",
            "check after the split": "fidelity_seed7919", "second check": "fidelity_seed4099",
            "first check": "fidelity_seed2027", "earlier check": "fidelity_seed41"}
@@ -218,3 +219,24 @@ def test_rescore_states_todays_estimate_and_keeps_the_measurement():
     assert again["actual_error"] == 1e-4 and again["wall_s"] == 0.01  # the run's own figures stay
     assert again["ratio"] == pytest.approx(1e-4 / again["estimate"]) and again["inside"] is True
     assert again["auto_0.001"] in ("full", "averaged", "closed") and row["estimate"] == 123.0  # a copy
+
+
+PENDULUM_SEEDS = sorted(p.stem for p in RESULTS.glob("fidelity_pendulum_*.csv"))
+
+
+@pytest.mark.parametrize("stem", PENDULUM_SEEDS)
+def test_the_pendulum_seeds_hold_and_docs_quote_them(stem):
+    """Each committed pendulum-only study: no stated estimate below its actual error, and docs/models.md B.10's
+    table row naming its file quotes its summary (scenarios, estimates, worst and median ratio, auto's shares)."""
+    rows, meta = _rows(stem), _meta(stem)
+    stated = [r for r in rows if r["status"] == "ok" and r["estimate"] != "" and math.isfinite(r["estimate"])]
+    assert len(stated) >= 90
+    assert not [(r["index"], r["actual_error"], r["estimate"]) for r in stated if r["actual_error"] > r["estimate"]]
+    g = meta["summary"]["groups"]["spherical_pendulum/averaged"]
+    line = next(x for x in (ROOT_DOCS / "models.md").read_text().splitlines() if f"`bench/results/{stem}.csv`" in x
+                and x.startswith("|"))
+    cells = [c.strip() for c in line.strip("|").split("|")][1:]
+    shares = {o["accuracy"]: o for o in meta["summary"]["oracle_by_system"]["spherical_pendulum"]}
+    assert cells[:4] == [str(g["n"]), str(g["finite_estimate"]), f"{g['worst_actual_over_estimate']:.2f}",
+                         f"{g['median_estimate_over_actual']:.1f}"]
+    assert cells[4:] == [f"{shares[a]['auto_cheaper']} of {shares[a]['oracle_cheaper']}" for a in (1e-2, 1e-3)]
