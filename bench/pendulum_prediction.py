@@ -30,6 +30,17 @@ prediction, the violations (actual above it) and auto's share of the oracle's ch
 and the best estimate of the form S_p prediction + S_n max(detuning_gap, rate_gap) + S_s spread with no violation,
 fitted with no margin on these rows (the frontier the bracket parts still impose).
 
+Two more views ask what point 4 needs of any prediction. The ``ceiling`` is, for a precision S, the share of the
+oracle's cheap runs whose actual error is at most accuracy / S: what an estimate that is never below the actual
+error and at most S times it could take, however it is obtained. The ``envelope`` decision takes a cheap run where
+the product's estimate allows it or where S times the envelope (the largest of the three predictions, plus the
+spread) is within the accuracy, and counts its shares and the cheap runs whose actual error exceeds the accuracy:
+a decision rule that is not a bound, the best use of these predictions short of one.
+
+``branches`` counts the bob's steady swings at the start: the following equations' forced response, x ((sigma +
+SWING_SHIFT omega_0 x)^2 + gamma1^2) = |kappa2 Phihat_0|^2 in x = a^2, has one root or three. With three, the
+hardening bob can settle on its upper branch, which the following equations, started at rest, do not reach.
+
 Writes bench/results/pendulum_prediction.csv (+ .meta.json: machine, command, summary) and
 docs/img/pendulum_prediction.png (actual error against the prediction and against the product's estimate).
 """
@@ -65,8 +76,10 @@ HARDENING_SPREAD = 0.3  # the hardening taken this much weaker and stronger for 
 S_PREDICTION = (1.05, 1.1, 1.2, 1.3, 1.5, 2.0)
 S_BRACKET = (0.0, 0.1, 0.2, 0.3, 0.5, 0.75, 1.0)
 S_SPREAD = (0.0, 0.5, 1.0, 2.0)
+PRECISIONS = (1.1, 1.25, 1.5, 2.0)  # the ceiling's S: an estimate at most this many times the actual error
+S_ENVELOPE = (1.0, 1.1, 1.25, 1.5, 2.0)
 COLUMNS = ("study", "index", "actual", "estimate", "linear", "detuning", "rate", *PREDICTIONS, "spread",
-           "swing", "shift_over_width", "D_over_l")
+           "swing", "shift_over_width", "D_over_l", "branches")
 
 
 def following_theta(sc, t: np.ndarray, spin: float, hardening: float, arm: float) -> np.ndarray:
@@ -84,6 +97,18 @@ def following_theta(sc, t: np.ndarray, spin: float, hardening: float, arm: float
         return c.kappa1, c.kappa2, c.sigma, c.gamma1
 
     return averaged_run(p, AveragedCoefficients(p), w0, t, coefficients)
+
+
+def steady_branches(sc) -> int:
+    """How many steady swings the following equations' bob has at the start (module docstring): 1 or 3."""
+    p = spherical_linear(pendulum_system(sc))
+    co = AveragedCoefficients(p)
+    w0, _, _ = initial_G(sc)
+    h = SWING_SHIFT[sc.pendulum.pivot] * p.omega0
+    drive = abs(co.kappa2 * complex(w0[0], w0[1]))
+    roots = np.roots([h * h, 2 * co.sigma * h, co.sigma**2 + co.gamma1**2, -drive * drive])
+    real = roots[np.abs(roots.imag) <= 1e-9 * np.maximum(1.0, np.abs(roots))].real
+    return int(np.sum(real > 0))
 
 
 def measure(row: dict) -> dict | None:
@@ -112,10 +137,24 @@ def measure(row: dict) -> dict | None:
     out = dict(study=row["study"], index=row["index"], actual=row["actual"], estimate=q.bound,
                linear=q.linear_gap + q.polhode_gap, detuning=q.detuning_gap, rate=q.rate_gap,
                spread=spread if math.isfinite(spread) else math.inf, swing=q.a,
-               shift_over_width=q.shift / q.width if q.width > 0 else math.inf, D_over_l=p.D / p.l)
+               shift_over_width=q.shift / q.width if q.width > 0 else math.inf, D_over_l=p.D / p.l,
+               branches=steady_branches(sc))
     for name, d in moved.items():
         e = float(np.max(np.abs(k_fixed(th_lin + d) - th_avg)))
         out[name] = e if math.isfinite(e) else math.inf
+    return out
+
+
+def decision(actual: np.ndarray, estimate: np.ndarray, predicted: np.ndarray) -> dict:
+    """Per accuracy: cheap where the estimate or the predicted error is within it; the oracle's cheap runs, auto's
+    among them, its share, and auto's cheap runs whose actual error exceeds the accuracy."""
+    out = {}
+    for acc in ACCURACIES:
+        taken = (estimate <= acc) | (predicted <= acc)
+        oracle = actual <= acc
+        out[f"{acc:g}"] = dict(oracle=int(oracle.sum()), auto=int(np.sum(taken & oracle)),
+                               share=float(np.sum(taken & oracle) / oracle.sum()) if oracle.any() else math.nan,
+                               over_accuracy=int(np.sum(taken & ~oracle)))
     return out
 
 
@@ -145,6 +184,14 @@ def summary(rows: list[dict]) -> dict:
             best = dict(S_prediction=sp, S_bracket=sn, S_spread=ss, lowest_share=low,
                         worst=float(np.max(actual / est)), **s)
     out["best_bound"] = best
+    out["ceiling"] = {f"{s:g}": shares(actual, s * actual) for s in PRECISIONS}
+    envelope = np.maximum.reduce([col[name] for name in PREDICTIONS]) + col["spread"]
+    out["envelope_decision"] = [dict(S=s, **decision(actual, col["estimate"], s * envelope)) for s in S_ENVELOPE]
+    ratio = actual / col["prediction"]
+    out["branches"] = {str(b): dict(rows=int(np.sum(col["branches"] == b)),
+                                    ratio_percentiles={str(q): float(np.percentile(ratio[col["branches"] == b], q))
+                                                       for q in (50, 95, 100)})
+                       for b in (1, 3) if np.any(col["branches"] == b)}
     return out
 
 
@@ -219,6 +266,17 @@ def main(argv: list[str] | None = None) -> int:
     else:
         print(f"best with no violation: {b['S_prediction']:g} prediction + {b['S_bracket']:g} max(detuning, rate) + "
               f"{b['S_spread']:g} spread: " + ", ".join(f"{a:g} rad {b[f'{a:g}']['share']:.0%}" for a in ACCURACIES))
+    for s, c in result["ceiling"].items():
+        print(f"ceiling of an estimate at most {s}x the actual error: "
+              + ", ".join(f"{a:g} rad {c[f'{a:g}']['share']:.0%}" for a in ACCURACIES))
+    for b, v in result["branches"].items():
+        q = v["ratio_percentiles"]
+        print(f"{v['rows']} rows with {b} steady swing(s) at the start: actual/predicted median {q['50']:.2f}, "
+              f"95 % {q['95']:.2f}, worst {q['100']:.2f}")
+    for d in result["envelope_decision"]:
+        print(f"cheap where the estimate or {d['S']:g} x envelope allows: " + ", ".join(
+            f"{a:g} rad {d[f'{a:g}']['share']:.0%} ({d[f'{a:g}']['over_accuracy']} over the accuracy)"
+            for a in ACCURACIES))
     return 0
 
 

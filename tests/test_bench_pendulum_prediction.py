@@ -13,6 +13,7 @@ import pytest
 from test_bench_pendulum_ceiling import pendulum_study
 
 import physics
+from bench import pendulum_prediction as PP
 from bench.fidelity import max_theta_error
 from bench.pendulum_prediction import COLUMNS, PREDICTIONS, following_theta, main, measure
 from physics.systems.pendulum.accuracy import scenario_parts
@@ -100,6 +101,35 @@ def test_the_summary_is_rebuilt_from_the_rows(run):
         assert np.all(actual <= est) and best["worst"] == pytest.approx(float(np.max(actual / est)), rel=1e-12)
 
 
+def test_the_jumps_start_with_three_steady_swings_and_a_tuned_bob_with_one():
+    """Seed 8111's scenario 93 and seed 6607's 56, whose full models jump to the hardening bob's upper branch
+    (docs/models.md B.10), start with three steady swings; a tuned bob (sigma = 0: x ((h x)^2 + gamma1^2) rises
+    with x) with one."""
+    for stem, index in (("fidelity_pendulum_seed8111", "93"), ("fidelity_pendulum_seed6607", "56")):
+        with open(ROOT / "bench" / "results" / f"{stem}.csv", newline="") as f:
+            row = next(r for r in csv.DictReader(f) if r["index"] == index and r["system"] == "spherical_pendulum")
+        assert PP.steady_branches(physics.Scenario.from_dict(json.loads(row["scenario"]))) == 3
+    assert PP.steady_branches(physics.Scenario.from_dict(NEAR_THE_CENTRE)) == 1
+
+
+def test_the_ceiling_and_the_decision_count_by_hand():
+    """Five rows worked by hand: errors 0.5, 0.9, 5, 9.5 and 20 mrad. An estimate at most 1.25 x the actual error
+    could take 0.5 (0.625 <= 1) of the two runs within 1 mrad and 5 and 0.5 and 0.9 (to 1.125) of the four within
+    10 mrad, not 9.5 (11.9). A decision taking whatever is predicted within the accuracy takes the 20 mrad row at
+    1e-2 (predicted 8): one cheap run over the accuracy."""
+    actual = np.array([0.5e-3, 0.9e-3, 5e-3, 9.5e-3, 20e-3])
+    rows = [dict(study="s", index=str(i), actual=a, estimate=1.0, linear=0.0, detuning=0.0, rate=0.0,
+                 sigma_only=a, no_arm=a, prediction=a, spread=0.0, swing=0.1, shift_over_width=0.1, D_over_l=1.0,
+                 branches=1)
+            for i, a in enumerate(actual)]
+    c = PP.summary(rows)["ceiling"]["1.25"]
+    assert (c["0.01"]["oracle"], c["0.01"]["auto"]) == (4, 3) and (c["0.001"]["oracle"], c["0.001"]["auto"]) == (2, 1)
+    d = PP.decision(actual, np.ones(5), np.array([0.8e-3, 2e-3, 2e-3, 20e-3, 8e-3]))
+    assert d["0.01"] == dict(oracle=4, auto=3, share=0.75, over_accuracy=1)
+    assert d["0.001"] == dict(oracle=2, auto=1, share=0.5, over_accuracy=0)
+    assert PP.decision(actual, actual, np.full(5, np.inf))["0.01"]["over_accuracy"] == 0  # a bound never takes one
+
+
 def test_docs_quote_the_committed_results():
     """docs/models.md B.10's table and frontier are bench/results/pendulum_prediction.meta.json's."""
     s = json.loads((ROOT / "bench" / "results" / "pendulum_prediction.meta.json").read_text())["summary"]
@@ -116,3 +146,15 @@ def test_docs_quote_the_committed_results():
     assert f"`{b['S_prediction']:g} prediction + {b['S_bracket']:.1f} max(detuning_gap, rate_gap)`" in docs
     for acc in ("0.01", "0.001"):
         assert f"{b[acc]['auto']} of {b[acc]['oracle']} ({100 * b[acc]['share']:.0f} %)" in docs
+    one, three = s["branches"]["1"], s["branches"]["3"]
+    assert (f"{three['rows']} of the {s['scenarios']} rows start with three, and their actual / predicted has median "
+            f"{three['ratio_percentiles']['50']:.2f}, 95 % {three['ratio_percentiles']['95']:.2f} and worst "
+            f"{three['ratio_percentiles']['100']:.0f}, against {one['ratio_percentiles']['50']:.2f}, "
+            f"{one['ratio_percentiles']['95']:.2f} and {one['ratio_percentiles']['100']:.1f} over the {one['rows']} "
+            "with one") in " ".join(docs.split())
+    for precision, c in s["ceiling"].items():
+        assert (f"{100 * c['0.01']['share']:.0f} % and {100 * c['0.001']['share']:.0f} % at S = {precision}"
+                in " ".join(docs.split()))
+    for d in s["envelope_decision"]:
+        assert (f"S = {d['S']:g}: {100 * d['0.01']['share']:.0f} % ({d['0.01']['over_accuracy']} over) and "
+                f"{100 * d['0.001']['share']:.0f} % ({d['0.001']['over_accuracy']} over)") in " ".join(docs.split())
