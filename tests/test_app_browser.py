@@ -10,23 +10,17 @@ The readouts panel prints ``name = value`` lines, which the tests read back.
 from __future__ import annotations
 
 import os
-import queue
 import re
 import shutil
-import subprocess
-import sys
-import threading
-import time
 from pathlib import Path
 
 import pytest
+from explorer_process import ROOT, Explorer
 
 pytestmark = pytest.mark.browser
-ROOT = Path(__file__).resolve().parents[1]
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
          "--disable-background-networking", "--disable-component-update", "--disable-sync"]
-START_TIMEOUT = 120.0  # s: a cold numba cache compiles the kernels first
 UI_TIMEOUT = 30_000  # ms
 SIX = {"m": "m (kg)", "rho": "rho (m)", "Omega": "Omega (rad/s)", "chi": "chi (1/s)", "lambda": "lambda (1/s)",
        "b": "b (N m)"}
@@ -38,30 +32,8 @@ if not os.path.exists(CHROMIUM):
 
 @pytest.fixture(scope="module")
 def url():
-    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    lines: queue.Queue = queue.Queue()
-    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
-    deadline = time.monotonic() + START_TIMEOUT
-    found = None
-    log = []
-    while found is None and time.monotonic() < deadline and proc.poll() is None:
-        try:
-            line = lines.get(timeout=1.0)
-        except queue.Empty:
-            continue
-        log.append(line)
-        m = re.search(r"ready in .*: (http://\S+)", line)
-        found = m.group(1) if m else None
-    if found is None:
-        proc.kill()
-        pytest.fail("the explorer did not start:\n" + "".join(log))
-    yield found
-    proc.terminate()
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+    with Explorer() as explorer:
+        yield explorer.url
 
 
 # Headless chromium draws the 3-D view in software (SwiftShader), which took the larger part of CI's two cores: the

@@ -16,10 +16,10 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from explorer_process import START_TIMEOUT
 from test_app_browser import (  # noqa: E402  (chromium, once per module)
     ROOT,
     SIX,
-    START_TIMEOUT,
     browser,
     choose_until,
     click,

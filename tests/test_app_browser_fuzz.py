@@ -6,18 +6,12 @@ simulation keeps publishing), and an invalid combination must show its message.
 
 from __future__ import annotations
 
-import queue
 import random
 import re
-import subprocess
-import sys
-import threading
-import time
 
 import pytest
+from explorer_process import Explorer
 from test_app_browser import (
-    ROOT,
-    START_TIMEOUT,
     UI_TIMEOUT,
     choose,
     click,
@@ -40,31 +34,8 @@ SLIDERS_JS = """() => Array.from(document.querySelectorAll('[role=slider]')).map
 
 @pytest.fixture(scope="module")
 def server():
-    proc = subprocess.Popen([sys.executable, "-u", "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    lines: queue.Queue = queue.Queue()
-    log: list[str] = []
-
-    def pump():
-        for line in proc.stdout:
-            log.append(line)
-            lines.put(line)
-
-    threading.Thread(target=pump, daemon=True).start()
-    deadline = time.monotonic() + START_TIMEOUT
-    url = None
-    while url is None and time.monotonic() < deadline and proc.poll() is None:
-        try:
-            m = re.search(r"ready in .*: (http://\S+)", lines.get(timeout=1.0))
-        except queue.Empty:
-            continue
-        url = m.group(1) if m else None
-    if url is None:
-        proc.kill()
-        pytest.fail("the explorer did not start:\n" + "".join(log))
-    yield url, proc, log
-    proc.terminate()
-    proc.wait(timeout=10)
+    with Explorer() as explorer:
+        yield explorer.url, explorer.proc, explorer.log
 
 
 @pytest.fixture(scope="module")

@@ -5,16 +5,12 @@ preparing the fast integrator; once the build is let through, the notice goes an
 from __future__ import annotations
 
 import os
-import queue
 import re
 import signal
-import subprocess
-import sys
-import threading
-import time
 
 import pytest
-from test_app_browser import ROOT, START_TIMEOUT, launch, read, sync_api
+from explorer_process import Explorer
+from test_app_browser import launch, read, sync_api
 
 pytestmark = pytest.mark.browser
 PREPARING = "preparing the fast integrator"
@@ -23,31 +19,14 @@ STATUS_JS = """() => { for (const p of document.querySelectorAll('p'))
 BUILD_TIMEOUT = 600.0  # s: on a machine whose numba cache is cold the released build really compiles
 
 
-def _start(env: dict) -> tuple[subprocess.Popen, str]:
-    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
-    lines: queue.Queue = queue.Queue()
-    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
-    deadline, log = time.monotonic() + START_TIMEOUT, []
-    while time.monotonic() < deadline and proc.poll() is None:
-        try:
-            log.append(lines.get(timeout=1.0))
-        except queue.Empty:
-            continue
-        m = re.search(r"ready in .*: (http://\S+)", log[-1])
-        if m:
-            return proc, m.group(1)
-    proc.kill()
-    pytest.fail("the explorer did not start:\n" + "".join(log))
-
-
 def _sim_time(page) -> float:
     return float(read(page, "t").split()[0])
 
 
 def test_the_scene_runs_while_the_integrator_is_built_and_after(tmp_path):
     gate = tmp_path / "gate"
-    proc, url = _start(dict(os.environ, QUASIRIGID_BUILD_GATE=str(gate)))
+    explorer = Explorer(env=dict(os.environ, QUASIRIGID_BUILD_GATE=str(gate)), own_group=True)
+    url = explorer.url
     try:
         with sync_api.sync_playwright() as p:
             browser = launch(p)
@@ -74,7 +53,6 @@ def test_the_scene_runs_while_the_integrator_is_built_and_after(tmp_path):
             assert "playing" in status and "fault" not in status, status
             browser.close()
     finally:
-        os.killpg(proc.pid, signal.SIGTERM)
-        proc.wait(timeout=10)
+        code = explorer.stop(signal.SIGTERM)
     # the explorer ran until it was told to stop: ended by the signal, not by an exit of its own (a crash exits 1)
-    assert proc.returncode == -signal.SIGTERM
+    assert code == -signal.SIGTERM

@@ -5,8 +5,10 @@ ERR_EMPTY_RESPONSE), and a link it can take still gets the explorer's page."""
 from __future__ import annotations
 
 import socket
+import time
 
 import pytest
+from explorer_process import Explorer
 
 from app.share.link import MAX_LINK_CHARS, MAX_REQUEST_LINE
 
@@ -103,34 +105,9 @@ def test_a_connection_closed_before_its_request_leaves_no_traceback(sent, kept):
 def test_connections_closed_unused_at_start_print_no_traceback():
     """End to end: the explorer's server, before it has served any request (when viser's own filter is not yet
     there), gets three connections closed without a byte, as a browser's unused preconnects are."""
-    import queue
-    import re
-    import subprocess
-    import sys
-    import threading
-    import time
-    from pathlib import Path
-
-    proc = subprocess.Popen([sys.executable, "-m", "app", "--port", "0"], cwd=Path(__file__).resolve().parents[1],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    lines: queue.Queue = queue.Queue()
-    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
-    log, port, deadline = [], None, time.monotonic() + 120
-    try:
-        while port is None and time.monotonic() < deadline and proc.poll() is None:
-            try:
-                log.append(lines.get(timeout=1.0))
-            except queue.Empty:
-                continue
-            m = re.search(r"ready in .*: http://127\.0\.0\.1:(\d+)", log[-1])
-            port = int(m.group(1)) if m else None
-        assert port is not None, "".join(log)
+    with Explorer() as explorer:
         for _ in range(3):
-            socket.create_connection(("127.0.0.1", port), timeout=10).close()
+            socket.create_connection(("127.0.0.1", explorer.port), timeout=10).close()
         time.sleep(2.0)  # no request in between: one would install viser's filter before their records
-        while not lines.empty():
-            log.append(lines.get())
-    finally:
-        proc.terminate()
-        proc.wait(timeout=30)
+    log = explorer.log
     assert not any("Traceback" in line or "handshake failed" in line for line in log), "".join(log)
