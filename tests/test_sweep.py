@@ -7,6 +7,7 @@ import csv
 import math
 import sys
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -328,3 +329,42 @@ def test_a_stopped_sweep_ends_the_runs_in_flight(how):
     after_stop = time.monotonic() - start - 2.0
     assert table.stopped and all(r["error"] == "(not run: the sweep was stopped)" for r in table.rows), table.rows
     assert after_stop < 10.0, after_stop  # a point alone takes 12 s or more
+
+
+def test_a_stopped_sweep_ends_its_runs_on_a_cluster_it_does_not_own(monkeypatch):
+    """A sweep on a shared scheduler is stopped after its first point: the long run already going on a worker's
+    thread ends at its next look at the sweep's halt (a cancelled future would have run it to its end, ~10 s).
+    The point queued behind the short one may start before the stop reaches the scheduler: it is halted too."""
+    distributed = pytest.importorskip("distributed")
+    from physics.studies import sweep as S
+    from physics.studies.pool import Stopped
+
+    started: list[float] = []  # t_end of every run started on the cluster
+    outcomes: list[tuple[float, str]] = []  # (t_end, how its run ended)
+    real = S.simulate
+
+    def watched(sc, **kw):
+        started.append(sc.run.t_end)
+        try:
+            tr = real(sc, **kw)
+        except Stopped:
+            outcomes.append((sc.run.t_end, "stopped"))
+            raise
+        outcomes.append((sc.run.t_end, "ended"))
+        return tr
+
+    monkeypatch.setattr(S, "simulate", watched)  # the cluster's workers are threads of this process
+    base = _short_pendulum().with_values(**{"run.fidelity": "full"})
+    stop = threading.Event()
+    short, long = 12.0, 4e5  # a few ms; about 10 s, 40 progress callbacks
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        table = physics.sweep(base, {"run.t_end": f"{short:g},{long:g},{long:g}"}, "theta_end", dask=client,
+                              progress=lambda done, total: stop.set(), stop=stop)
+        deadline = time.monotonic() + 120  # a cancelled task leaves the scheduler at once, its thread runs on
+        while len(outcomes) < len(started) and time.monotonic() < deadline:
+            time.sleep(0.1)
+    assert table.computed == 1 and table.rows[0]["run.t_end"] == short
+    assert (short, "ended") in outcomes
+    halted = [o for t, o in outcomes if t == long]
+    assert halted and set(halted) == {"stopped"}, outcomes  # each long run that started ended at the halt

@@ -44,7 +44,16 @@ from physics.scenario.meta import BASE_PARAMS
 from physics.scenario.scenario import Scenario
 from physics.stepping.simulate import simulate
 from physics.studies.metrics import FIT_BAND, METRICS
-from physics.studies.pool import NEEDS_DISTRIBUTED, HaltingPool, Stopped, scheduler_client, stopper, worker_halt
+from physics.studies.pool import (
+    NEEDS_DISTRIBUTED,
+    DaskHalt,
+    HaltingPool,
+    Stopped,
+    scheduler_client,
+    set_dask_halt,
+    stopper,
+    worker_halt,
+)
 from physics.studies.sweep import point_scenario, resolve_key
 
 # objective -> "min", "max" or "min_positive" (a decay time: the smallest positive; a growing nutation is worst)
@@ -197,6 +206,11 @@ def _evaluate_in_worker(*args) -> dict:
     return evaluate(*args, stop=worker_halt())
 
 
+def _evaluate_on_dask(*args, halt: str) -> dict:
+    """evaluate on a dask worker, ended once the design sets its halt (``pool.DaskHalt``)."""
+    return evaluate(*args, stop=DaskHalt(halt))
+
+
 class _Runner:
     """submit(values, phase) -> Future of an Evaluation, on local processes, in this process, or on Dask."""
 
@@ -205,6 +219,7 @@ class _Runner:
         self.stop = stop  # in this process a run ends once it is set (raising Stopped from submit)
         self.tail = (objective, fidelity, accuracy)
         self.pool = self.client = self.cluster = None
+        self.halt = DaskHalt.new_name()
         self.lock = threading.Lock()
         if dask is not None:
             try:
@@ -228,7 +243,7 @@ class _Runner:
 
     def submit(self, values: tuple[float, ...]) -> Future:
         if self.client is not None:
-            return self.client.submit(evaluate, *self.args, values, *self.tail, pure=False)
+            return self.client.submit(_evaluate_on_dask, *self.args, values, *self.tail, halt=self.halt, pure=False)
         if self.pool is not None:
             return self.pool.submit(_evaluate_in_worker, *self.args, values, *self.tail)
         f: Future = Future()
@@ -240,8 +255,10 @@ class _Runner:
         """Ends the workers' runs still going (their results are not waited for) and the pool or the client."""
         if self.pool is not None:
             self.pool.close()
-        if self.client is not None and self.own:
-            self.client.close()
+        if self.client is not None:
+            set_dask_halt(self.client, self.halt)  # a cancelled future's run would go on to its end
+            if self.own:
+                self.client.close()
         if self.cluster is not None:
             self.cluster.close()
 

@@ -2,12 +2,14 @@
 worker ends once the study's process has gone.
 
 A study stopped (Stop in the explorer, Ctrl-C in the command line) keeps no result of the runs still going, and a
-full run may take minutes: without a word to them the pool's shutdown waited for every one (a sweep stopped 3 s
-into runs of 12-34 s returned 78 s later). The study's ``halt``, a multiprocessing Event shared with its workers,
-ends their runs at the next progress callback. A second Ctrl-C ends the study's process at once
-(physics/__main__.py) without a word to the pool; its idle workers would wait for work forever, each keeping the
-others' end of the work queue open, and hold the terminal's output: each worker watches its parent and leaves with
-it.
+full run may take minutes: without a word to them the pool's shutdown waited for every one (a sweep stopped 3 s into
+runs of 12-34 s returned 78 s later). The study's ``halt``, a multiprocessing Event shared with its workers, ends
+their runs at the next progress callback. On dask the halt is a distributed.Event named for the study
+(``DaskHalt``): cancelling a future does not stop a run already going on a worker's thread, and on a shared cluster
+those runs went on for minutes after the study had stopped listening. A second Ctrl-C ends the study's process at
+once (physics/__main__.py) without a word to the pool; its idle workers would wait for work forever, each keeping
+the others' end of the work queue open, and hold the terminal's output: each worker watches its parent and leaves
+with it.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import signal
 import socket
 import threading
 import time
+import uuid
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from urllib.parse import urlsplit
@@ -27,6 +30,7 @@ from physics.core.errors import ScenarioError
 
 PARENT_POLL_S = 0.25  # s: how often a worker looks whether the study's process still runs
 DASK_TIMEOUT_S = 10  # s to reach a scheduler's address before the study is refused
+DASK_HALT_POLL_S = 0.25  # s: a dask run looks at its study's halt no more often (each look asks the scheduler)
 NEEDS_DISTRIBUTED = "needs dask.distributed: pip install 'dask[distributed]'"  # in the test extra only
 
 _HALT = None  # in a worker process: its study's halt (None in the study's own process)
@@ -34,6 +38,41 @@ _HALT = None  # in a worker process: its study's halt (None in the study's own p
 
 class Stopped(Exception):
     """A run ended because its study was stopped: no result, and not a failure of the point."""
+
+
+class DaskHalt:
+    """A study's halt on dask: the distributed.Event ``name``, which the study sets (``set_dask_halt``) when it
+    stops. Built where the run runs (a worker), looked at no more often than every DASK_HALT_POLL_S."""
+
+    def __init__(self, name: str):
+        self.name = name
+        self._event = None
+        self._seen = False
+        self._next = 0.0
+
+    @staticmethod
+    def new_name() -> str:
+        return f"quasirigid-halt-{uuid.uuid4().hex}"
+
+    def is_set(self) -> bool:
+        if not self._seen and time.monotonic() >= self._next:
+            if self._event is None:
+                from distributed import Event  # on a dask worker, where distributed is installed
+
+                self._event = Event(self.name)
+            self._seen = bool(self._event.is_set())
+            self._next = time.monotonic() + DASK_HALT_POLL_S
+        return self._seen
+
+
+def set_dask_halt(client, name: str) -> None:
+    """Ends the runs of the study ``name`` still going on ``client``'s cluster at their next look."""
+    from distributed import Event
+
+    try:
+        Event(name, client=client).set()
+    except Exception:  # noqa: BLE001 - a scheduler gone or unreachable runs nothing of ours to end
+        pass
 
 
 def stopper(stop) -> Callable[[float], None]:

@@ -39,10 +39,12 @@ from physics.stepping.simulate import simulate
 from physics.studies.metrics import METRICS
 from physics.studies.pool import (
     NEEDS_DISTRIBUTED,
+    DaskHalt,
     HaltingPool,
     Stopped,
     context,
     scheduler_client,
+    set_dask_halt,
     stopper,
     worker_halt,
 )
@@ -361,6 +363,11 @@ def _run_point_in_worker(*args) -> dict:
     return run_point(*args, stop=worker_halt())
 
 
+def _run_point_on_dask(*args, halt: str) -> dict:
+    """run_point on a dask worker: it ends once the sweep sets its halt (``pool.DaskHalt``)."""
+    return run_point(*args, stop=DaskHalt(halt))
+
+
 def _run_processes(tasks, workers, on_result, stop, start_method=None):
     ctx = context(start_method)
     if ctx.get_start_method() == "fork":
@@ -403,14 +410,17 @@ def _run_dask(tasks, dask, workers, on_result, stop):
             own_client = client = scheduler_client(dask)
     else:
         client = dask
+    halt, futures = DaskHalt.new_name(), []
     try:
-        futures = [client.submit(run_point, *t, pure=False) for t in tasks]
+        futures = [client.submit(_run_point_on_dask, *t, halt=halt, pure=False) for t in tasks]
         for fut in as_completed(futures):
             on_result(fut.result())
             if stop is not None and stop.is_set():
-                client.cancel(futures)
                 break
     finally:
+        if not all(f.done() for f in futures):  # stopped (or failed): the runs going end, the rest never start
+            set_dask_halt(client, halt)
+            client.cancel(futures)
         if own_client is not None:
             own_client.close()
         if own_cluster is not None:
