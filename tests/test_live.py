@@ -297,3 +297,18 @@ def test_a_closed_form_that_fails_while_advancing_is_a_fault_not_an_exception(ch
     tr = run.advance(1.0, 5)
     assert run.status == FAULT and len(tr.t) == 0
     assert run.message.startswith("closed form failed: ") and "Error" not in run.message
+
+
+def test_a_fault_at_the_start_names_the_value_as_simulate_does():
+    """A body with C = 1e-8 beside A = B = 1 faults at t = 0 (the step size underflows). physics.simulate names
+    body.C; the live run (the explorer's) said only "step size underflow at t = 0", so a scene loaded from a file
+    or a share code stopped with no word of which value to change. A fault later in the run is the run's, and is
+    said as it was."""
+    sc = _default().with_values(**{"body.C": 1e-8})
+    with pytest.raises(physics.IntegrationFault) as refused:  # a NumericalFault, which is one
+        physics.simulate(sc)
+    run = LiveRun(sc)
+    run.advance(0.1, samples=4)
+    assert run.status == FAULT
+    assert run.message == str(refused.value)
+    assert "the most extreme value is body.C = 1e-08" in run.message

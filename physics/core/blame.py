@@ -91,15 +91,25 @@ def guarded(sc, what: str, spans: dict[str, tuple[float, float]] | None = None):
     except NumericalFault:
         raise
     except IntegrationFault as exc:
-        if type(exc) is not IntegrationFault or not exc.t <= EARLY_FRACTION * _t_end(sc):
+        blamed = input_fault(sc, exc, spans)
+        if blamed is None:
             raise
-        key, value = most_extreme(sc, spans)
-        raise NumericalFault(str(exc), key, value, outlier(sc, spans) is None) from exc
+        raise blamed from exc
     except ScenarioError:
         raise
     except NUMERICAL as exc:
         key, value = most_extreme(sc, spans)
         raise NumericalFault(f"{what} failed: {plain_words(exc)}", key, value, outlier(sc, spans) is None) from exc
+
+
+def input_fault(sc, exc: IntegrationFault, spans: dict[str, tuple[float, float]] | None = None
+                ) -> NumericalFault | None:
+    """An integration fault at the run's start (t <= EARLY_FRACTION run.t_end) as one of the input: a
+    NumericalFault naming the most extreme value of ``sc``; None for a later fault, or one of another kind."""
+    if type(exc) is not IntegrationFault or not exc.t <= EARLY_FRACTION * _t_end(sc):
+        return None
+    key, value = most_extreme(sc, spans)
+    return NumericalFault(str(exc), key, value, outlier(sc, spans) is None)
 
 
 def plain_words(exc: BaseException) -> str:

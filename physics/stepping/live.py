@@ -28,13 +28,14 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from physics.core.blame import NUMERICAL, most_extreme, plain_words
+from physics.core.blame import NUMERICAL, input_fault, most_extreme, plain_words
 from physics.core.errors import IntegrationFault, NumericalFault, ScenarioError
 from physics.core.trajectory import Trajectory
 from physics.kernels.build import pick
 from physics.registry import get_system
 from physics.scenario.params import FIXED_STEP_METHODS
 from physics.scenario.scenario import Scenario
+from physics.stepping.simulate import spans
 from physics.stepping.stepper import BRAKED as BRAKED_STATUS
 from physics.stepping.stepper import (
     MAX_STEPS,
@@ -285,7 +286,9 @@ class LiveRun:
             self.message = f"{STATUS_TEXT[piece.status]} at t = {piece.t_last:.6g} s"
         elif piece.ended:  # recorded, never raised: the viewer shows it and keeps the last good state
             self.status = FAULT
-            self.message = str(piece.fault())
+            fault = piece.fault()
+            # at the run's start it is the input's, and the user must learn which value (as physics.simulate says)
+            self.message = str(input_fault(self.scenario, fault, spans(self.scenario)) or fault)
         if not len(piece.rows_t):
             return self._empty()
         tr = self._cut_at_nonfinite(self._observe(piece.rows_t, piece.rows_y))
