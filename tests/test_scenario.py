@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +44,7 @@ BAD = [
     ("run.t_end", 0.0, "> 0"), ("run.t_end", -5.0, "> 0"), ("run.fidelity", "fast", '"full"'),
     ("run.samples", 1, "whole number"), ("run.samples", 2.5, "whole number"), ("run.rtol", 1.0, "[1e-14, 1e-2]"),
     ("run.t_eval", [0.0, 2.0, 1.0], "increase"), ("initial.theta0", 4.0, "[0, pi]"), ("initial.G0", -1.0, "> 0"),
+    ("initial.G0", 5e-324, "at least 2.23e-308"), ("initial.G0", 1e-310, "smallest normal double"),
     ("initial.mass_state", "moving", '"rest"'), ("body.Z", 1.0, "unknown key"), ("mass.Omgea", 1.0, "unknown key"),
     ("medium.lambda_", 1.0, "unknown key; allowed: lambda"),
 ]
@@ -56,6 +58,18 @@ def test_bad_value_names_key_value_and_range(path, value, allowed):
     assert message.startswith(path)
     assert allowed in message
     assert repr(value)[:10] in message or str(value) in message
+
+
+def test_the_least_rotation_still_gives_its_angle():
+    """G0 and omega smaller than the smallest normal double keep a few bits in K's components: G0 = 5e-324 at
+    theta0 = 0.8 started at pi/4. They are refused by name; the smallest normal G0 starts where theta0 says."""
+    with pytest.raises(ScenarioError, match=r"^initial\.omega = \[5e-324, 0.0, 5e-324\]: must have a component"):
+        physics.Scenario.from_dict({**_with("initial.G0", 1.0), "initial": {"omega": [5e-324, 0.0, 5e-324]}})
+    sc = physics.Scenario.from_dict(_with("initial.G0", sys.float_info.min)).with_values(
+        **{"run.fidelity": "full", "run.t_end": 1.0})
+    assert physics.simulate(sc).theta[0] == pytest.approx(sc.initial.theta0, abs=1e-14)
+    tilted = physics.Scenario.from_dict({**_with("initial.G0", 1.0), "initial": {"omega": [1e-300, 0.0, 1.0]}})
+    assert tilted.initial.omega[0] == 1e-300  # a tiny component beside a normal one is only a tiny tilt
 
 
 def test_rho_too_large_for_the_frozen_inertia():

@@ -89,6 +89,11 @@ class Body:
         return self.A == self.B
 
 
+# G0 and omega below the smallest normal double are subnormal: their products with sin and cos of theta0 keep a
+# few bits, so the initial nutation angle is lost (G0 = 5e-324 with theta0 = 0.8 started at pi/4)
+SMALLEST_RATE = sys.float_info.min
+
+
 @dataclass(frozen=True)
 class Initial:
     """Initial rotation: either ``omega`` (rad/s, body frame) or ``G0`` = |J* w| (kg m^2/s) with
@@ -111,11 +116,19 @@ class Initial:
             w = tuple(_number(f"initial.omega[{i}]", v) for i, v in enumerate(self.omega))
             if not any(w):
                 raise ScenarioError("initial.omega", self.omega, "must not be zero (the body must rotate)")
+            if max(map(abs, w)) < SMALLEST_RATE:
+                raise ScenarioError("initial.omega", self.omega, f"must have a component of at least "
+                                    f"{SMALLEST_RATE:.3g} rad/s in size (the smallest normal double): below it the "
+                                    "components keep too few digits to give the axis of rotation")
             object.__setattr__(self, "omega", w)
         else:
             if self.G0 is None or self.theta0 is None:
                 raise ScenarioError("initial", "incomplete", "give omega = [wx, wy, wz], or both G0 and theta0")
             object.__setattr__(self, "G0", positive("initial.G0", self.G0))
+            if self.G0 < SMALLEST_RATE:
+                raise ScenarioError("initial.G0", self.G0, f"must be at least {SMALLEST_RATE:.3g} kg m^2/s (the "
+                                    "smallest normal double): below it K's components keep too few digits to give "
+                                    "theta0")
             th = _number("initial.theta0", self.theta0)
             if not 0.0 <= th <= math.pi:
                 raise ScenarioError("initial.theta0", self.theta0, "must be in [0, pi] rad")
