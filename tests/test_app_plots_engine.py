@@ -160,3 +160,24 @@ def test_a_subnormal_nutation_is_charted_without_raising(system):
     for h in (h for h in gui.handles if h.kind == "uplot" and h.visible):
         assert h.scales is not None and "y" in h.scales, h.title  # the axis was set from the data
         assert chart_finite(h), (h.title, h.scales)
+
+
+def test_a_scene_that_stops_at_its_start_replaces_the_last_scenes_curves():
+    """A shared scene whose run faults at t = 0 (body.C = 1e-8 beside A = B = 1) has one row to plot. The charts,
+    which draw nothing of fewer than two points, kept the previous scene's curves under the new scene's readouts;
+    now they show its start."""
+    e = Engine()
+    gui = FakeGui()
+    charts = build_plots(gui, e.plot_data())
+    ticks(e, 30)
+    update_plots(charts, e.plot_data())
+    theta_chart = next(h for h in gui.handles if h.kind == "uplot" and h.title == "nutation angle theta")
+    assert len(theta_chart.data[0]) > 2
+    e.request("scenario", (e.scenario.with_values(**{"body.C": 1e-8}), "shared scene"))
+    ticks(e, 3)
+    assert e.run.status == "fault" and "body.C = 1e-08" in e.run.message
+    t, theta, _, K, E = e.plot_data()
+    assert list(t) == [0.0, 0.0] and theta[0] == theta[1] == e.run.last.theta[0]
+    update_plots(charts, e.plot_data())
+    assert list(theta_chart.data[0]) == [0.0, 0.0]  # the new scene's start, not the last scene's curve
+    assert chart_finite(theta_chart)

@@ -20,7 +20,10 @@ def plot_data(rows: np.ndarray, overlay: tuple[np.ndarray, np.ndarray] | None) -
     """(t, theta, overlay's theta, |K|, E) of the plot rows ``rows`` (t, theta, |K|, E). The overlay predicts
     from t = 0; where it has no value yet (a run that has gone past the prediction, until the next one is
     ready) and without an overlay it is theta (the plot hides it). No NaN: uPlot's auto-range would break on
-    them."""
+    them. One row (a run stopped at its start) comes as that row twice: the charts draw nothing of fewer than two,
+    and kept showing the scene before it."""
+    if len(rows) == 1:
+        rows = np.repeat(rows, 2, axis=0)
     t = rows[:, 0]
     over = rows[:, 1].copy()
     if overlay is not None and len(t):
