@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from watched_runs import watch
 
 import physics
 from physics.studies.design import OBJECTIVES, evaluate
@@ -397,34 +398,17 @@ def test_a_stopped_design_ends_its_runs_on_a_cluster_it_does_not_own(monkeypatch
     more, 40 progress callbacks) goes on a worker's thread, halts it instead of leaving it to run to its end."""
     distributed = pytest.importorskip("distributed")
     from physics.studies import design as D
-    from physics.studies.pool import Stopped
 
-    started: list[float] = []
-    outcomes: list[tuple[float, str]] = []
     stop = threading.Event()
-    real = D.simulate
-
-    def watched(sc, **kw):
-        started.append(sc.run.t_end)
-        if sc.run.t_end > 1e5:
-            stop.set()  # Stop pressed while this run goes on
-        try:
-            tr = real(sc, **kw)
-        except Stopped:
-            outcomes.append((sc.run.t_end, "stopped"))
-            raise
-        outcomes.append((sc.run.t_end, "ended"))
-        return tr
-
-    monkeypatch.setattr(D, "simulate", watched)  # the cluster's workers are threads of this process
+    # Stop pressed while a long run goes on; the cluster's workers are threads of this process
+    runs = watch(monkeypatch, D, on_start=lambda sc: sc.run.t_end > 1e5 and stop.set())
     sc = _pendulum().with_values(**{"run.t_end": 12.0, "run.samples": 121, "run.fidelity": "full"})
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         result = physics.design(sc, {"run.t_end": (12.0, 2e6)}, "theta_end", dask=client, stop=stop, budget=13,
                                 references=False)
-        deadline = time.monotonic() + 120  # a cancelled task leaves the scheduler at once, its thread runs on
-        while len(outcomes) < len(started) and time.monotonic() < deadline:
-            time.sleep(0.1)
+        runs.settle()
+    outcomes = runs.outcomes
     assert result.stopped
     long = [o for t, o in outcomes if t > 1e5]
     assert long and set(long) == {"stopped"}, outcomes

@@ -11,6 +11,7 @@ import time
 
 import numpy as np
 import pytest
+from watched_runs import watch
 
 import physics
 from physics.studies.metrics import FIT_BAND, decay_time, energy_dissipated, max_displacement
@@ -318,7 +319,6 @@ def test_a_stopped_sweep_ends_the_runs_in_flight(how):
     """The explorer's sweeps run in forkserver workers (its server has threads); a stopped sweep waited for the
     runs in flight, whose results it does not keep: 78-82 s after Stop on these points. Under fork the first point
     runs in the sweep's own process, and serially every point does: those ignored stop too."""
-    import time
 
     stop = threading.Event()
     timer = threading.Timer(2.0, stop.set)
@@ -337,23 +337,8 @@ def test_a_stopped_sweep_ends_its_runs_on_a_cluster_it_does_not_own(monkeypatch)
     The point queued behind the short one may start before the stop reaches the scheduler: it is halted too."""
     distributed = pytest.importorskip("distributed")
     from physics.studies import sweep as S
-    from physics.studies.pool import Stopped
 
-    started: list[float] = []  # t_end of every run started on the cluster
-    outcomes: list[tuple[float, str]] = []  # (t_end, how its run ended)
-    real = S.simulate
-
-    def watched(sc, **kw):
-        started.append(sc.run.t_end)
-        try:
-            tr = real(sc, **kw)
-        except Stopped:
-            outcomes.append((sc.run.t_end, "stopped"))
-            raise
-        outcomes.append((sc.run.t_end, "ended"))
-        return tr
-
-    monkeypatch.setattr(S, "simulate", watched)  # the cluster's workers are threads of this process
+    runs = watch(monkeypatch, S)  # the cluster's workers are threads of this process
     base = _short_pendulum().with_values(**{"run.fidelity": "full"})
     stop = threading.Event()
     short, long = 12.0, 4e5  # a few ms; about 10 s, 40 progress callbacks
@@ -361,9 +346,8 @@ def test_a_stopped_sweep_ends_its_runs_on_a_cluster_it_does_not_own(monkeypatch)
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         table = physics.sweep(base, {"run.t_end": f"{short:g},{long:g},{long:g}"}, "theta_end", dask=client,
                               progress=lambda done, total: stop.set(), stop=stop)
-        deadline = time.monotonic() + 120  # a cancelled task leaves the scheduler at once, its thread runs on
-        while len(outcomes) < len(started) and time.monotonic() < deadline:
-            time.sleep(0.1)
+        runs.settle()
+    outcomes = runs.outcomes
     assert table.computed == 1 and table.rows[0]["run.t_end"] == short
     assert (short, "ended") in outcomes
     halted = [o for t, o in outcomes if t == long]
