@@ -36,6 +36,7 @@ import math
 import sys
 import time
 import warnings
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -121,6 +122,26 @@ def picked_rows(ap: argparse.ArgumentParser, study: list[Path] | None) -> tuple[
     if not picked:
         ap.error("no averaged spherical-pendulum row with a measured error in " + ", ".join(map(str, paths)))
     return paths, picked
+
+
+def measured(results: Iterable[dict | None], total: int) -> list[dict]:
+    """The rows of a study's ``results`` (None where a scenario gives none), counted on stderr as they come."""
+    rows = []
+    for n, m in enumerate(results, 1):
+        if m is not None:
+            rows.append(m)
+        print(f"\r{n}/{total} scenarios", end="", file=sys.stderr, flush=True)
+    print(file=sys.stderr)
+    return rows
+
+
+def write_study(args: argparse.Namespace, argv: list[str] | None, stem: str, columns, rows: list[dict],
+                paths: list[Path], t0: float, result: dict) -> None:
+    """``stem``.csv and .meta.json (command, studies, wall time, summary) in --out, and --img made for the chart."""
+    command = f"python -m bench {stem.replace('_', '-')}"
+    write_results(args.out, stem, columns, rows, command=" ".join([command, *(sys.argv[1:] if argv is None else argv)]),
+                  studies=[p.name for p in paths], wall_s=time.perf_counter() - t0, summary=result)
+    args.img.mkdir(parents=True, exist_ok=True)
 
 
 def shares(actual: np.ndarray, estimate: np.ndarray) -> dict:
@@ -232,20 +253,11 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     paths, picked = picked_rows(ap, args.study)
     t0 = time.perf_counter()
-    rows = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", physics.ValidityWarning)
-        for n, r in enumerate(picked, 1):
-            m = measure(r)
-            if m is not None:
-                rows.append(m)
-            print(f"\r{n}/{len(picked)} scenarios", end="", file=sys.stderr, flush=True)
-    print(file=sys.stderr)
+        rows = measured(map(measure, picked), len(picked))
     result = summary(rows)
-    write_results(args.out, "pendulum_ceiling", COLUMNS, rows,
-                  command=" ".join(["python -m bench pendulum-ceiling", *(sys.argv[1:] if argv is None else argv)]),
-                  studies=[p.name for p in paths], wall_s=time.perf_counter() - t0, summary=result)
-    args.img.mkdir(parents=True, exist_ok=True)
+    write_study(args, argv, "pendulum_ceiling", COLUMNS, rows, paths, t0, result)
     chart(result, args.img / "pendulum_ceiling.png")
     p = result["product"]
     print(f"{len(rows)} scenarios with an estimate (of {len(picked)}); the product's (SAFETY {SAFETY:g}): "

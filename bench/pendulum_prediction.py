@@ -51,7 +51,6 @@ import argparse
 import itertools
 import json
 import math
-import sys
 import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
@@ -61,9 +60,8 @@ from pathlib import Path
 import numpy as np
 
 import physics
-from bench.pendulum_ceiling import ACCURACIES, add_study_options, picked_rows, shares
+from bench.pendulum_ceiling import ACCURACIES, add_study_options, measured, picked_rows, shares, write_study
 from bench.pendulum_hardening import averaged_run, detuned_theta
-from bench.results_file import write_results
 from physics.scenario.initial import initial_G
 from physics.systems.pendulum.accuracy import SWING_SHIFT, scenario_parts
 from physics.systems.pendulum.averaged import AveragedCoefficients, averaged_theta
@@ -102,9 +100,12 @@ def following_theta(sc, t: np.ndarray, spin: float, hardening: float, arm: float
 def steady_branches(sc) -> int:
     """How many steady swings the following equations' bob has at the start (module docstring): 1 or 3."""
     p = spherical_linear(pendulum_system(sc))
-    co = AveragedCoefficients(p)
     w0, _, _ = initial_G(sc)
-    h = SWING_SHIFT[sc.pendulum.pivot] * p.omega0
+    return _branches(p, AveragedCoefficients(p), w0, SWING_SHIFT[sc.pendulum.pivot])
+
+
+def _branches(p, co: AveragedCoefficients, w0, swing_shift: float) -> int:
+    h = swing_shift * p.omega0
     drive = abs(co.kappa2 * complex(w0[0], w0[1]))
     roots = np.roots([h * h, 2 * co.sigma * h, co.sigma**2 + co.gamma1**2, -drive * drive])
     real = roots[np.abs(roots.imag) <= 1e-9 * np.maximum(1.0, np.abs(roots))].real
@@ -121,7 +122,8 @@ def measure(row: dict) -> dict | None:
     w0, _, _ = initial_G(sc)
     t = np.linspace(0.0, float(sc.run.t_end), POINTS)
     th_lin = linear_nutation(p, (w0[0], w0[1]), t)
-    th_avg, _ = averaged_theta(AveragedCoefficients(p), np.array([w0[0] + 1j * w0[1], 0j]), p.W, t)
+    co = AveragedCoefficients(p)
+    th_avg, _ = averaged_theta(co, np.array([w0[0] + 1j * w0[1], 0j]), p.W, t)
     c0 = math.cos(float(th_lin[0]))
 
     def k_fixed(th):  # tan(theta) = |H_perp|/(C W)  ->  sin(theta) = |H_perp|/K, K = C W / cos(theta0)
@@ -138,7 +140,7 @@ def measure(row: dict) -> dict | None:
                linear=q.linear_gap + q.polhode_gap, detuning=q.detuning_gap, rate=q.rate_gap,
                spread=spread if math.isfinite(spread) else math.inf, swing=q.a,
                shift_over_width=q.shift / q.width if q.width > 0 else math.inf, D_over_l=p.D / p.l,
-               branches=steady_branches(sc))
+               branches=_branches(p, co, w0, SWING_SHIFT[sc.pendulum.pivot]))
     for name, d in moved.items():
         e = float(np.max(np.abs(k_fixed(th_lin + d) - th_avg)))
         out[name] = e if math.isfinite(e) else math.inf
@@ -240,18 +242,10 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--workers {args.workers}: must be at least 1")
     paths, picked = picked_rows(ap, args.study)
     t0 = time.perf_counter()
-    rows = []
     with ProcessPoolExecutor(args.workers) as pool:
-        for n, m in enumerate(pool.map(_measure_quietly, picked, chunksize=4), 1):
-            if m is not None:
-                rows.append(m)
-            print(f"\r{n}/{len(picked)} scenarios", end="", file=sys.stderr, flush=True)
-    print(file=sys.stderr)
+        rows = measured(pool.map(_measure_quietly, picked, chunksize=4), len(picked))
     result = summary(rows)
-    write_results(args.out, "pendulum_prediction", COLUMNS, rows,
-                  command=" ".join(["python -m bench pendulum-prediction", *(sys.argv[1:] if argv is None else argv)]),
-                  studies=[p.name for p in paths], wall_s=time.perf_counter() - t0, summary=result)
-    args.img.mkdir(parents=True, exist_ok=True)
+    write_study(args, argv, "pendulum_prediction", COLUMNS, rows, paths, t0, result)
     chart(rows, result, args.img / "pendulum_prediction.png")
     pr = result["product"]
     print(f"{len(rows)} scenarios; the product's estimate: {pr['violations']} violations, "
