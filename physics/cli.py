@@ -31,11 +31,35 @@ from physics.systems.derived import derived
 
 
 class _Parser(argparse.ArgumentParser):
+    def parse_args(self, args=None, namespace=None):
+        return super().parse_args(_attached(sys.argv[1:] if args is None else list(args)), namespace)
+
     def error(self, message):  # one line, status 2, like every other bad input
         # an argument may hold a newline or be huge: escape control characters and cut what is echoed
         text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
         text = text if len(text) <= 300 else text[:297] + "..."
         self.exit(2, f"error: {text} (see 'python -m physics --help')\n")
+
+
+def _attached(argv: list[str]) -> list[str]:
+    """``--opt -1e-3`` as ``--opt=-1e-3``: argparse takes only ``-1`` and ``-.5`` for negative numbers, so a value
+    such as -1e308, -5e-324 or -inf after an option was read as an option of its own, and the error ("expected one
+    argument") named neither the value nor what is allowed. Attached, the value reaches the option's own check."""
+    out: list[str] = []
+    for word in argv:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and word.startswith("-") and _number(word):
+            out[-1] = f"{out[-1]}={word}"
+        else:
+            out.append(word)
+    return out
+
+
+def _number(word: str) -> bool:
+    try:
+        float(word)
+    except ValueError:
+        return False
+    return True
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -365,7 +365,8 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
     n_levels = START_LEVELS[len(keys)]
     coarse = n_levels ** len(keys)
     if budget < coarse + 1 + 2 * (len(keys) + 1):
-        raise ScenarioError("budget", budget, f"is too small for {len(keys)} keys: the coarse start alone takes "
+        keys_word = f"{len(keys)} key" + ("s" if len(keys) > 1 else "")
+        raise ScenarioError("budget", budget, f"is too small for {keys_word}: the coarse start alone takes "
                             f"{coarse} runs and each refinement at least {len(keys) + 1}; give at least "
                             f"{coarse + 1 + 2 * (len(keys) + 1)}")
     if accuracy is not None:
