@@ -8,6 +8,8 @@ import time
 
 import numpy as np
 
+from .serve.address import AddressError, listening_port, shown_host
+
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
@@ -41,6 +43,13 @@ def main(argv: list[str] | None = None) -> int:
     if not args.host.strip():
         print("error: --host '' names no interface; give one (default 127.0.0.1, loopback)", file=sys.stderr)
         return 2
+    try:
+        port = listening_port(args.host, args.port)
+    except AddressError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    if port != args.port:
+        print(f"port {args.port} is in use (another explorer?): serving on {port}", flush=True)
     if args.host not in LOOPBACK:
         print(f"warning: --host {args.host} makes the explorer reachable from other machines; it has no "
               "authentication", file=sys.stderr, flush=True)
@@ -53,9 +62,8 @@ def main(argv: list[str] | None = None) -> int:
     from .serve.page_scripts import install as install_page_scripts
 
     install_page_scripts()  # app/serve/page_scripts.py says what the page gets
-    server = viser.ViserServer(host=args.host, port=args.port, label="Quasirigid")
-    shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
-    url = f"http://{shown}:{server.get_port()}"
+    server = viser.ViserServer(host=args.host, port=port, label="Quasirigid")
+    url = f"http://{shown_host(args.host)}:{server.get_port()}"
     print(f"serving {url}; loading the physics...", flush=True)
     import physics
 

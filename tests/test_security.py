@@ -64,6 +64,8 @@ def _serve(monkeypatch, capsys, argv, code=0):
     import app.serve.server
 
     monkeypatch.setattr(viser, "ViserServer", _FakeServer)
+    # the hosts below need not be this machine's: whether they can be bound is tests/test_app_address.py's
+    monkeypatch.setattr(app_main, "listening_port", lambda host, port, dashes="--": port)
     monkeypatch.setattr(app.serve.server, "App", _FakeApp)
     monkeypatch.setattr(app.serve.server, "warm_up", lambda: None)
 

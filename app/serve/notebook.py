@@ -13,6 +13,8 @@ from pathlib import Path
 
 import physics
 
+from .address import listening_port, shown_host
+
 DEFAULT_HEIGHT = 700  # px: the control panel and the 3-D view side by side
 
 
@@ -59,7 +61,8 @@ def show(scenario: physics.Scenario | str | Path | None = None, *, height: int =
          port: int = 0, host: str = "127.0.0.1", display: bool = True) -> Explorer:
     """Serve the explorer on ``scenario`` (a physics.Scenario, a TOML file's path, or None for the default scene)
     and show it inline; returns at once. ``port`` 0 picks a free one. Raises physics.ScenarioError for a
-    scenario that does not run, before any server starts."""
+    scenario that does not run, and app.serve.address.AddressError (a ValueError) for a host or port that cannot
+    be listened on, before any server starts."""
     if isinstance(scenario, (str, Path)):
         scenario = physics.Scenario.load(scenario)
     if scenario is not None and not isinstance(scenario, physics.Scenario):
@@ -67,11 +70,11 @@ def show(scenario: physics.Scenario | str | Path | None = None, *, height: int =
                         "path or None (the default scene)")
     if scenario is not None:
         physics.LiveRun(scenario)  # a scenario that cannot run is refused here, not in the page
+    port = listening_port(host, port, dashes="")
     from .server import App
 
     explorer_app = App(host=host, port=port, scenario=scenario)
-    shown = "127.0.0.1" if host in ("0.0.0.0", "::") else host
-    explorer = Explorer(explorer_app, f"http://{shown}:{explorer_app.port}")
+    explorer = Explorer(explorer_app, f"http://{shown_host(host)}:{explorer_app.port}")
     if display:
         explorer.display(height)
     return explorer
