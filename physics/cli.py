@@ -29,6 +29,8 @@ from physics.studies.design import BUDGET, OBJECTIVES
 from physics.studies.design_cli import run_design
 from physics.systems.derived import derived
 
+NUMPY_FLOATING = r"(invalid value|divide by zero|overflow|underflow) encountered"  # numpy's floating-point warnings
+
 
 class _Parser(argparse.ArgumentParser):
     def parse_args(self, args=None, namespace=None):
@@ -160,9 +162,12 @@ def _run(sc: Scenario, args):
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    # numpy's overflow and divide warnings say nothing to a user: the values printed show inf or nan
+    # numpy's overflow and divide warnings say nothing to a user: the values printed show inf or nan. errstate
+    # holds in this thread only; a design's refinements run in threads of their own, so their numpy warnings
+    # (14 lines of "invalid value encountered in divide" over one design) are filtered here, for every thread
     with warnings.catch_warnings(record=True) as caught, np.errstate(all="ignore"):
         warnings.simplefilter("always")
+        warnings.filterwarnings("ignore", NUMPY_FLOATING, RuntimeWarning)
         try:
             sc = _load(args.scenario)
             if args.command == "design":
