@@ -412,3 +412,29 @@ def test_a_stopped_design_ends_its_runs_on_a_cluster_it_does_not_own(monkeypatch
     assert result.stopped
     long = [o for t, o in outcomes if t > 1e5]
     assert long and set(long) == {"stopped"}, outcomes
+
+
+@pytest.mark.parametrize("bounds", [(5e-324, 40.0), (1e-300, 1e300)])
+def test_a_range_across_the_doubles_is_searched_on_its_log_scale(bounds):
+    """hi/lo overflowed for a lower bound of 5e-324: every point of the coarse start was the upper bound, eight
+    runs of one scenario reported as a search of the range."""
+    from physics.studies.design import _Scale
+
+    start = [_Scale([bounds]).values([(i + 0.5) / 8])[0] for i in range(8)]
+    steps = np.diff(np.log(start))
+    assert np.all(steps > 0) and np.allclose(steps, (math.log(bounds[1]) - math.log(bounds[0])) / 8, rtol=1e-9)
+
+
+def test_a_line_across_the_doubles_stays_finite():
+    from physics.studies.design import _Scale
+
+    values = [_Scale([(-1e308, 1e308)]).values([x])[0] for x in (0.0, 0.25, 0.5, 1.0)]
+    assert values == [-1e308, -5e307, 0.0, 1e308]
+
+
+def test_a_design_from_the_smallest_double_runs_eight_different_points():
+    sc = _pendulum().with_values(**{"run.t_end": 6.0, "run.samples": 61})
+    result = physics.design(sc, {"pendulum.c_d": (5e-324, 40.0)}, lambda tr, s: s.pendulum.c_d, executor="serial",
+                            budget=13, references=False)
+    start = sorted(e.values[0] for e in result.path if e.phase == "start")
+    assert len(set(start)) == 8 and start[0] < 1e-300 and start[-1] > 1e-20  # 10^(-323.3 + 325.2 (i + 0.5)/8)

@@ -323,7 +323,9 @@ class _Scale:
     def values(self, x) -> tuple[float, ...]:
         out = []
         for xi, (lo, hi), log in zip(np.clip(x, 0.0, 1.0), self.bounds, self.log, strict=True):
-            v = lo * (hi / lo) ** xi if log else lo + (hi - lo) * xi
+            # in logarithms, and the line as a weighted mean: hi/lo and hi - lo overflow for bounds such as
+            # (5e-324, 80) or (-1e308, 1e308), which put every point at hi (or nan)
+            v = math.exp((1 - xi) * math.log(lo) + xi * math.log(hi)) if log else (1 - xi) * lo + xi * hi
             out.append(float(min(max(v, lo), hi)))
         return tuple(out)
 
