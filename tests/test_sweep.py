@@ -58,6 +58,15 @@ def test_axis_values_linear_log_and_lists():
             physics.axis_values(bad)
 
 
+def test_axis_values_across_the_doubles_are_finite_and_even():
+    """linspace's step (hi - lo)/(n - 1) overflows for -1e308:1e308: its points were nan, inf, inf, inf, 1e308."""
+    assert physics.axis_values("-1e308:1e308:5") == ([-1e308, -5e307, 0.0, 5e307, 1e308], "linear")
+    big = 1.7976931348623157e308
+    assert physics.axis_values((-big, big, 3)) == ([-big, 0.0, big], "linear")
+    v, _ = physics.axis_values("log:5e-324:1e308:4")
+    assert v[0] == 5e-324 and v[-1] == 1e308 and all(0 < a < b for a, b in zip(v[:-1], v[1:], strict=True))
+
+
 def test_short_names_resolve_per_system_with_clear_errors():
     pend = _short_pendulum()
     assert physics.resolve_key(pend, "k") == "pendulum.k"
