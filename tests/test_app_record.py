@@ -36,10 +36,13 @@ def _refused(argv, capsys, *words):
     return err
 
 
-@pytest.mark.parametrize("seconds", ["0", "-1", str(MAX_SECONDS + 1), "1e9", "nan", "inf", "abc"])
+@pytest.mark.parametrize("seconds", ["0", "-1", str(MAX_SECONDS + 1), "1e9", "nan", "inf", "abc", "5e-324", "0.0333",
+                                     "-1e308"])
 def test_seconds_outside_its_range_is_refused_naming_it(seconds, capsys, tmp_path):
-    _refused(["--seconds", seconds, "--out", str(tmp_path / "x.html")], capsys, "--seconds", repr(seconds),
-             f"at most {MAX_SECONDS:g}")
+    # 5e-324 s and anything short of one frame wrote a replay of 0 frames; -1e308 was argparse's "expected one
+    # argument" until written --seconds=-1e308
+    _refused([f"--seconds={seconds}", "--out", str(tmp_path / "x.html")], capsys, "--seconds", repr(seconds),
+             f"1/{REPLAY_FPS:g} s (one frame) to {MAX_SECONDS:g} s")
     assert not (tmp_path / "x.html").exists()
 
 
@@ -56,6 +59,7 @@ def test_a_missing_or_bad_scenario_file_is_refused_naming_it(capsys, tmp_path):
 
 def test_a_bad_out_or_warp_or_option_is_refused_naming_it(capsys, tmp_path):
     _refused(["--seconds", "1", "--out", str(tmp_path)], capsys, "--out", "directory")
+    _refused(["--seconds", "1", "--out", ""], capsys, "--out ''", "names no file")  # was "'' is a directory"
     _refused(["--seconds", "1", "--out", str(tmp_path / "no" / "x.html")], capsys, "--out", "does not exist")
     _refused(["--seconds", "1", "--warp", "1e9", "--out", str(tmp_path / "x.html")], capsys, "--warp", "10000")
     _refused(["--seconds", "1", "--warp", "fast", "--out", str(tmp_path / "x.html")], capsys, "--warp")

@@ -32,7 +32,8 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
     ap.add_argument("scenario", nargs="?", metavar="SCENARIO.toml",
                     help="the scenario to play (default: the explorer's default scene)")
     ap.add_argument("--seconds", default=str(DEFAULT_SECONDS),
-                    help=f"played seconds (default {DEFAULT_SECONDS:g}; more than 0, at most {MAX_SECONDS:g})")
+                    help=f"played seconds (default {DEFAULT_SECONDS:g}; 1/{REPLAY_FPS:g}, one frame, to "
+                    f"{MAX_SECONDS:g})")
     ap.add_argument("--out", default="replay.html", help="the HTML file to write (default replay.html)")
     ap.add_argument("--warp", default=None, help="simulated seconds per played second (default: the explorer's "
                     "choice for the scene, 1x for the default scene)")
@@ -48,6 +49,8 @@ def _title(path: Path, text: str) -> str:
 
 
 def _out_path(value: str) -> Path:
+    if not value.strip():
+        raise _Refused(f"--out {value!r} names no file; give a file name such as demo.html")
     out = Path(value)
     if out.is_dir():
         raise _Refused(f"--out {value!r} is a directory; give a file name such as demo.html")

@@ -12,14 +12,13 @@ from __future__ import annotations
 import threading
 from dataclasses import dataclass
 
-import numpy as np
-
 import physics
 
 from ..engine.clock import PLOT_HZ
 from ..engine.engine import Engine
 
 REPLAY_FPS = 30.0  # frames per played second: smooth to the eye, half the live rate, half the file
+MIN_SECONDS = 1.0 / REPLAY_FPS  # one frame: 5e-324 s wrote a replay of 0 frames
 MAX_SECONDS = 600.0  # played seconds a replay may last: ten minutes (default scene: 4.9 MB, ~1 min of work)
 MAX_BYTES = 150 * 2**20  # an HTML file larger than this is refused rather than written (a browser chokes on it)
 _record_lock = threading.Lock()  # viser's serializer registry is per server, but one recording at a time is plenty
@@ -53,15 +52,14 @@ class _RecordingHost:
 
 
 def check_seconds(seconds) -> float:
-    """Played seconds as a float in (0, MAX_SECONDS]; ValueError naming the parameter otherwise."""
+    """Played seconds as a float in [MIN_SECONDS, MAX_SECONDS]; ValueError naming the parameter otherwise."""
+    allowed = f"allowed: 1/{REPLAY_FPS:g} s (one frame) to {MAX_SECONDS:g} s, played"
     try:
         s = float(seconds)
     except (TypeError, ValueError):
-        raise ValueError(f"--seconds {seconds!r} is not a number; allowed: more than 0, at most "
-                         f"{MAX_SECONDS:g}") from None
-    if not np.isfinite(s) or s <= 0 or s > MAX_SECONDS:
-        raise ValueError(f"--seconds {seconds!r} is out of range; allowed: more than 0, at most {MAX_SECONDS:g} "
-                         "(played seconds)")
+        raise ValueError(f"--seconds {seconds!r} is not a number; {allowed}") from None
+    if not MIN_SECONDS <= s <= MAX_SECONDS:  # also nan
+        raise ValueError(f"--seconds {seconds!r} is out of range; {allowed}")
     return s
 
 
