@@ -112,3 +112,22 @@ def test_a_camera_already_reported_is_fitted_at_once_and_one_without_reports_is_
     camera.fit_when_known(cam)
     assert len(cam.sent) == 2  # position and look_at
     camera.fit_when_known(object())  # a replay's or the class scene's camera: no reports, no error
+
+
+def test_the_browsers_own_start_is_not_taken_for_the_users_move():
+    """viser's client reports its camera on connecting; served by python -m app that first report came from
+    (-5, 0, 0), before the page took this module's camera, and the camera was then left alone for good: at
+    1024x768 the body stayed half under the legend. Reports seen there, in order:"""
+    cam = FakeCamera()
+    object.__setattr__(cam, "position", (-5.0, 0.0, 0.0))
+    cam._size = (1024, 768)
+    camera.fit_when_known(cam)
+    cam.report(1024, 768, position=(-5.0, 0.0, 0.0))  # the page starting
+    cam.report(1024, 768, position=camera.POSITION)  # it shows this module's view
+    cam.report(636, 768, position=camera.POSITION)  # the docked panel narrows it
+    want = np.add(camera.POSITION, -camera.framing_shift(636, 768, FOV) * camera.SCREEN_RIGHT)
+    assert camera.framing_shift(636, 768, FOV) > 0 and np.allclose(cam.position, want)
+    sent = len(cam.sent)
+    cam.report(636, 768, position=(5.0, -1.0, 2.0))  # now a camera from elsewhere is the user's
+    cam.report(1076, 900, position=(5.0, -1.0, 2.0))
+    assert len(cam.sent) == sent

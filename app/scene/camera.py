@@ -48,15 +48,16 @@ def place(camera) -> None:
 def fit_when_known(camera) -> None:
     """While the camera is where this module put it, follow the view's size as the browser reports it (the first
     report can come before the docked panel narrows the view): a narrow view moves the body clear of the legend.
-    A report from anywhere else is the user's own view, which is then left alone for good. A camera that reports
-    nothing (the replay's, the class scene's) stays as placed."""
+    A report from anywhere else, once the browser has shown this module's view, is the user's own view, which is
+    then left alone for good. A camera that reports nothing (the replay's, the class scene's) stays as placed."""
     if not hasattr(camera, "on_update"):
         return
     lock = threading.Lock()  # viser runs camera callbacks in a thread pool
     ours = [np.array(POSITION, dtype=float)]  # every start this module has set (a report may lag a move)
     moved_by_user = []
+    shown_ours = []  # the browser has reported a camera this module set: from then on another one is the user's
 
-    def fit(cam) -> None:
+    def fit(cam, reported: bool = True) -> None:
         with lock:
             if moved_by_user:
                 return
@@ -66,8 +67,13 @@ def fit_when_known(camera) -> None:
             except (AssertionError, AttributeError, TypeError, ValueError):  # no report yet, or not numbers
                 return
             if min(np.linalg.norm(at - p) for p in ours) > SAME_PLACE:
-                moved_by_user.append(True)
+                # viser's client reports its camera on connecting, sometimes before it has taken this module's
+                # (at (-5, 0, 0), served by python -m app): that is the page starting, not the user's move
+                if shown_ours:
+                    moved_by_user.append(True)
                 return
+            if reported:
+                shown_ours.append(True)
             target = np.add(POSITION, -framing_shift(*size) * SCREEN_RIGHT)
             if np.linalg.norm(target - ours[-1]) > SAME_PLACE:
                 ours.append(target)
@@ -75,4 +81,4 @@ def fit_when_known(camera) -> None:
                 cam.look_at = tuple(np.add(LOOK_AT, target - np.asarray(POSITION)))
 
     camera.on_update(fit)
-    fit(camera)  # the browser may have reported its view before this tab's scene was built
+    fit(camera, reported=False)  # the browser may have reported its size before this tab's scene was built
