@@ -20,6 +20,8 @@ STUDIES = {
     "class": ("classroom", "class mode: N student tabs following the lecturer's run: updates/s, memory, edit latency"),
     "api-escapes": ("api_escapes", "hostile arguments to every public API entry point: errors of undocumented types"),
     "hostile": ("hostile", "hostile values from a raw websocket client to every control: server tracebacks, memory"),
+    "commands": ("commands", "hostile values to every option of python -m physics design, python -m app record and "
+                             "python -m app, each run as a subprocess: tracebacks, hangs, unnamed refusals"),
     "explorer-rates": ("explorer_rates", "frames per second, achieved warp and slider latency of the explorer"),
     "fidelity": ("fidelity", "cheaper fidelities' actual theta error against their stated estimate (issue 15)"),
     "corrections": ("corrections", "the evidence figures of docs/corrections.md, recomputed (issue 17)"),

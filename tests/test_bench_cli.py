@@ -32,6 +32,7 @@ OPTIONS = {
     "load": ["--clients", "--minutes", "--warmup", "--out"],
     "hostile": ["--rounds", "--settle", "--seed", "--out"],
     "api-escapes": ["--root", "--out", "--note"],
+    "commands": ["--quick", "--out", "--note"],
     "refusals": ["--wall", "--out"],
     "class": ["--tabs", "--minutes", "--warmup", "--edit-every", "--out"],
     "explorer-rates": ["seconds", "--out", "--img", "--chart-only", "--compare"],

@@ -1,0 +1,148 @@
+"""``python -m bench commands``: every command's options given hostile values, each command run as a user runs it.
+
+Each case is the real command in a subprocess (``python -m physics design``, ``python -m app record``, ``python -m
+app``), never a stub: one option set to one value (numbers from 5e-324 to 1e308, nan, inf, negatives written with
+and without ``=``, words, the empty string), the others good. A case ends in one of:
+
+- ``ran``: status 0 (the explorer: it printed its "ready" line, and is then stopped);
+- ``refused``: status 2 and a last line with ``error: ...`` that names the option (for ``--vary``, or the key it
+  bounds) or the value given; ``unnamed``: one that names neither;
+- ``traceback``: "Traceback" anywhere in what it printed; ``hung``: still going after the time bound; ``other``:
+  any other status.
+
+The bad outcomes are traceback, hung, other and unnamed. The same commands run by hand across magnitudes found
+five faults (docs/reliability.md); this study keeps looking. Writes a JSON file (machine, command, counts, and
+every case that neither ran nor was refused by name).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from collections import Counter
+from pathlib import Path
+
+from .cli import study_parser
+from .machine import machine
+
+ROOT = Path(__file__).resolve().parents[1]
+NUMBERS = ("5e-324", "-5e-324", "1e-300", "1e308", "-1e308", "nan", "inf", "-inf", "0", "-1", "1e999", "2.5")
+WORDS = ("abc", "", " ", "x" * 300, "1,5")
+TIME_BOUND_S = 120.0  # per case: a design of 13 short runs, or the explorer's start
+QUICK = ("5e-324", "-1e308", "nan", "")  # --quick: CI's sample of the values
+ALSO_NAMED = {"--vary": ("mass.Omega",)}  # a refusal of a design's bounds may name the key they bound
+
+
+def _scenario(tmp: Path) -> Path:
+    """The default scene shortened to 5 s, so that a design the values let through ends within the bound."""
+    text = (ROOT / "assets" / "scenarios" / "oblate_settling.toml").read_text()
+    out = tmp / "short.toml"
+    out.write_text(text.replace("t_end = 60000.0", "t_end = 5.0"))
+    return out
+
+
+def cases(tmp: Path, values) -> list[tuple[str, str, str, list[str]]]:
+    """(command, option, value, argv after ``python -m``) for every option and value, each value written both
+    as ``--option=value`` and as ``--option value``."""
+    sc = str(_scenario(tmp))
+    record = ["app", "record", "--out", str(tmp / "r.html")]
+    design = ["physics", "design", sc, "--vary", "mass.Omega=1:3"]
+    out = []
+    for v in values:
+        out += [("physics design", "--vary", v, design[:3] + ["--vary", f"mass.Omega={v}:3", "--budget", "13",
+                                                              "--workers", "1"]),
+                ("physics design", "--vary", v, design[:3] + ["--vary", f"mass.Omega=1:{v}", "--budget", "13",
+                                                              "--workers", "1"])]
+        for written in ([f"--x={v}"], ["--x", v]):
+            def put(option, written=written):
+                return [w.replace("--x", option) for w in written]
+            out += [("physics design", "--accuracy", v, design + ["--budget", "13", "--workers", "1",
+                                                                  *put("--accuracy")]),
+                    ("physics design", "--budget", v, design + ["--workers", "1", *put("--budget")]),
+                    ("physics design", "--workers", v, design + ["--budget", "13", *put("--workers")]),
+                    ("app record", "--seconds", v, record + put("--seconds")),
+                    ("app record", "--warp", v, record + ["--seconds", "1", *put("--warp")]),
+                    ("app", "--port", v, ["app", *put("--port")])]
+    for host in ("", "192.0.2.1", "a" * 64 + ".example", "1e308"):
+        out.append(("app", "--host", host, ["app", "--host", host, "--port", "0"]))
+    return out
+
+
+def run_case(argv: list[str], cwd: Path) -> dict:
+    """Run ``python -m ARGV``; the explorer is stopped once it says it is ready."""
+    start = time.perf_counter()
+    p = subprocess.Popen([sys.executable, "-m", *argv], cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                         text=True, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    lines, ready, hung = [], False, False
+    try:
+        if argv[0] == "app" and argv[1:2] != ["record"]:
+            while True:
+                line = p.stdout.readline()
+                if not line:
+                    break
+                lines.append(line)
+                if "explorer ready in" in line:
+                    ready = True
+                    break
+                if time.perf_counter() - start > TIME_BOUND_S:
+                    hung = True
+                    break
+            if ready or hung:
+                p.kill()
+            rest = p.communicate(timeout=30)[0]
+        else:
+            rest = p.communicate(timeout=TIME_BOUND_S)[0]
+    except subprocess.TimeoutExpired:
+        p.kill()
+        rest, hung = p.communicate()[0], True
+    text = "".join(lines) + (rest or "")
+    last = next((s for s in reversed(text.strip().splitlines()) if s.strip()), "")
+    return dict(argv=argv, status=p.returncode, seconds=round(time.perf_counter() - start, 2), ready=ready, hung=hung,
+                traceback="Traceback" in text, last=last[:300])
+
+
+def outcome(case: dict, option: str, value: str) -> str:
+    if case["traceback"]:
+        return "traceback"
+    if case["hung"]:
+        return "hung"
+    if case["status"] == 0 or case["ready"]:
+        return "ran"
+    if case["status"] == 2 and "error: " in case["last"]:  # argparse's own: "python -m app: error: ..."
+        names = ALSO_NAMED.get(option, ()) + (option.lstrip("-"),)
+        named = any(n in case["last"] for n in names) or bool(value.strip() and value[:40] in case["last"])
+        return "refused" if named else "unnamed"
+    return "other"
+
+
+def main(argv=None) -> int:
+    ap = study_parser("commands", __doc__)
+    ap.add_argument("--quick", action="store_true", help=f"only the values {', '.join(map(repr, QUICK))} (CI)")
+    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "commands.json")
+    ap.add_argument("--note", default="", help="what was run (a commit), kept in the file")
+    args = ap.parse_args(argv)
+    values = QUICK if args.quick else NUMBERS + WORDS
+    counts, bad, wall = Counter(), [], time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        all_cases = cases(Path(tmp), values)
+        for i, (command, option, value, case_argv) in enumerate(all_cases, 1):
+            case = run_case(case_argv, Path(tmp))
+            kind = outcome(case, option, value)
+            counts[kind] += 1
+            if kind not in ("ran", "refused"):
+                bad.append({"command": command, "option": option, "outcome": kind, **case})
+            print(f"{i}/{len(all_cases)} {kind:9s} {case['seconds']:6.1f} s  python -m {' '.join(case_argv)[:90]}",
+                  file=sys.stderr, flush=True)
+    record = {"command": "python -m bench commands " + " ".join(argv if argv is not None else sys.argv[1:]),
+              "note": args.note, "machine": machine(), "values": list(values), "time_bound_s": TIME_BOUND_S,
+              "wall_s": round(time.perf_counter() - wall, 1), "cases": sum(counts.values()), "counts": dict(counts),
+              "bad": bad}
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(record, indent=1) + "\n")
+    print(f"{record['cases']} cases: " + ", ".join(f"{counts.get(k, 0)} {k}" for k in
+          ("ran", "refused", "unnamed", "traceback", "hung", "other")) + f" -> {args.out}")
+    return 0
