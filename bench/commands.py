@@ -19,9 +19,11 @@ from __future__ import annotations
 
 import json
 import os
+import queue
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from collections import Counter
 from pathlib import Path
@@ -73,36 +75,34 @@ def cases(tmp: Path, values) -> list[tuple[str, str, str, list[str]]]:
 
 
 def run_case(argv: list[str], cwd: Path) -> dict:
-    """Run ``python -m ARGV``; the explorer is stopped once it says it is ready."""
+    """Run ``python -m ARGV``; the explorer is stopped once it says it is ready. Its output is read by a thread of
+    its own, so that a command that hangs without printing a line is still stopped at the bound."""
     start = time.perf_counter()
     p = subprocess.Popen([sys.executable, "-m", *argv], cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                          text=True, env={**os.environ, "PYTHONPATH": str(ROOT)})
-    lines, ready, hung = [], False, False
-    try:
-        if argv[0] == "app" and argv[1:2] != ["record"]:
-            while True:
-                line = p.stdout.readline()
-                if not line:
-                    break
-                lines.append(line)
-                if "explorer ready in" in line:
-                    ready = True
-                    break
-                if time.perf_counter() - start > TIME_BOUND_S:
-                    hung = True
-                    break
-            if ready or hung:
-                p.kill()
-            rest = p.communicate(timeout=30)[0]
-        else:
-            rest = p.communicate(timeout=TIME_BOUND_S)[0]
-    except subprocess.TimeoutExpired:
+    lines: queue.Queue = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(line) for line in p.stdout] + [lines.put(None)], daemon=True).start()
+    explorer = argv[0] == "app" and argv[1:2] != ["record"]
+    text, ready, hung = [], False, False
+    while True:
+        try:
+            line = lines.get(timeout=max(TIME_BOUND_S - (time.perf_counter() - start), 0.0))
+        except queue.Empty:
+            hung = True
+            break
+        if line is None:  # the command ended
+            break
+        text.append(line)
+        if explorer and "explorer ready in" in line:
+            ready = True
+            break
+    if ready or hung:
         p.kill()
-        rest, hung = p.communicate()[0], True
-    text = "".join(lines) + (rest or "")
-    last = next((s for s in reversed(text.strip().splitlines()) if s.strip()), "")
+    p.wait()
+    out = "".join(text)
+    last = next((s for s in reversed(out.strip().splitlines()) if s.strip()), "")
     return dict(argv=argv, status=p.returncode, seconds=round(time.perf_counter() - start, 2), ready=ready, hung=hung,
-                traceback="Traceback" in text, last=last[:300])
+                traceback="Traceback" in out, last=last[:300])
 
 
 def outcome(case: dict, option: str, value: str) -> str:
