@@ -13,7 +13,7 @@ from pathlib import Path
 
 import physics
 
-from .address import listening_port, shown_host
+from .address import shown_host
 
 DEFAULT_HEIGHT = 700  # px: the control panel and the 3-D view side by side
 
@@ -70,7 +70,6 @@ def show(scenario: physics.Scenario | str | Path | None = None, *, height: int =
                         "path or None (the default scene)")
     if scenario is not None:
         physics.LiveRun(scenario)  # a scenario that cannot run is refused here, not in the page
-    port = listening_port(host, port, dashes="")
     from .server import App
 
     explorer_app = App(host=host, port=port, scenario=scenario)

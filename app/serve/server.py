@@ -15,6 +15,7 @@ import viser
 
 import physics
 
+from .address import listening_port
 from .guard import refuse_share_tunnel
 from .session import Session
 
@@ -34,6 +35,7 @@ class App:
         # a tab's last frame can race its disconnection; viser then warns that the message is dropped
         warnings.filterwarnings("ignore", message="Queued a .* on a closed connection")
         if server is None:
+            port = listening_port(host, port, dashes="")  # AddressError here, where viser would wait for ever
             from .guard import configure
 
             configure(host)  # before the server starts: same-origin browsers and this host's name only
