@@ -51,24 +51,23 @@ def cases(tmp: Path, values) -> list[tuple[str, str, str, list[str]]]:
     """(command, option, value, argv after ``python -m``) for every option and value, each value written both
     as ``--option=value`` and as ``--option value``."""
     sc = str(_scenario(tmp))
+    design = ["physics", "design", sc]
+    short = ["--budget", "13", "--workers", "1"]
     record = ["app", "record", "--out", str(tmp / "r.html")]
-    design = ["physics", "design", sc, "--vary", "mass.Omega=1:3"]
     out = []
     for v in values:
-        out += [("physics design", "--vary", v, design[:3] + ["--vary", f"mass.Omega={v}:3", "--budget", "13",
-                                                              "--workers", "1"]),
-                ("physics design", "--vary", v, design[:3] + ["--vary", f"mass.Omega=1:{v}", "--budget", "13",
-                                                              "--workers", "1"])]
-        for written in ([f"--x={v}"], ["--x", v]):
-            def put(option, written=written):
-                return [w.replace("--x", option) for w in written]
-            out += [("physics design", "--accuracy", v, design + ["--budget", "13", "--workers", "1",
-                                                                  *put("--accuracy")]),
-                    ("physics design", "--budget", v, design + ["--workers", "1", *put("--budget")]),
-                    ("physics design", "--workers", v, design + ["--budget", "13", *put("--workers")]),
-                    ("app record", "--seconds", v, record + put("--seconds")),
-                    ("app record", "--warp", v, record + ["--seconds", "1", *put("--warp")]),
-                    ("app", "--port", v, ["app", *put("--port")])]
+        out += [("physics design", "--vary", v, design + ["--vary", f"mass.Omega={v}:3", *short]),
+                ("physics design", "--vary", v, design + ["--vary", f"mass.Omega=1:{v}", *short])]
+        for form in (lambda option, v=v: [f"{option}={v}"], lambda option, v=v: [option, v]):
+            out += [("physics design", "--accuracy", v, design + ["--vary", "mass.Omega=1:3", *short,
+                                                                  *form("--accuracy")]),
+                    ("physics design", "--budget", v, design + ["--vary", "mass.Omega=1:3", "--workers", "1",
+                                                                *form("--budget")]),
+                    ("physics design", "--workers", v, design + ["--vary", "mass.Omega=1:3", "--budget", "13",
+                                                                 *form("--workers")]),
+                    ("app record", "--seconds", v, record + form("--seconds")),
+                    ("app record", "--warp", v, record + ["--seconds", "1", *form("--warp")]),
+                    ("app", "--port", v, ["app", *form("--port")])]
     for host in ("", "192.0.2.1", "a" * 64 + ".example", "1e308"):
         out.append(("app", "--host", host, ["app", "--host", host, "--port", "0"]))
     return out

@@ -129,7 +129,8 @@ def axis_values(spec, name: str = "vary") -> tuple[list[float], str]:
             raise bad("log spacing needs LO > 0 and HI > 0")
         return [float(v) for v in np.geomspace(lo, hi, n)], "log"
     if not math.isfinite(hi - lo):  # e.g. -1e308:1e308: linspace's step overflows to nan and inf points
-        return [float(v) for v in (1 - np.linspace(0.0, 1.0, n)) * lo + np.linspace(0.0, 1.0, n) * hi], "linear"
+        t = np.linspace(0.0, 1.0, n)
+        return [float(v) for v in (1 - t) * lo + t * hi], "linear"
     return [float(v) for v in np.linspace(lo, hi, n)], "linear"
 
 
