@@ -17,6 +17,7 @@ every case that neither ran nor was refused by name).
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import queue
@@ -26,6 +27,7 @@ import tempfile
 import threading
 import time
 from collections import Counter
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .cli import study_parser
@@ -53,7 +55,11 @@ def cases(tmp: Path, values) -> list[tuple[str, str, str, list[str]]]:
     sc = str(_scenario(tmp))
     design = ["physics", "design", sc]
     short = ["--budget", "13", "--workers", "1"]
-    record = ["app", "record", "--out", str(tmp / "r.html")]
+
+    def record(n: int) -> list[str]:  # a file for each case: cases may run at once
+        return ["app", "record", "--out", str(tmp / f"r{n}.html")]
+
+    names = itertools.count()
     out = []
     for v in values:
         out += [("physics design", "--vary", v, design + ["--vary", f"mass.Omega={v}:3", *short]),
@@ -65,8 +71,8 @@ def cases(tmp: Path, values) -> list[tuple[str, str, str, list[str]]]:
                                                                 *form("--budget")]),
                     ("physics design", "--workers", v, design + ["--vary", "mass.Omega=1:3", "--budget", "13",
                                                                  *form("--workers")]),
-                    ("app record", "--seconds", v, record + form("--seconds")),
-                    ("app record", "--warp", v, record + ["--seconds", "1", *form("--warp")]),
+                    ("app record", "--seconds", v, record(next(names)) + form("--seconds")),
+                    ("app record", "--warp", v, record(next(names)) + ["--seconds", "1", *form("--warp")]),
                     ("app", "--port", v, ["app", *form("--port")])]
     for host in ("", "192.0.2.1", "a" * 64 + ".example", "1e308"):
         out.append(("app", "--host", host, ["app", "--host", host, "--port", "0"]))
@@ -123,21 +129,25 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help=f"only the values {', '.join(map(repr, QUICK))} (CI)")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "commands.json")
     ap.add_argument("--note", default="", help="what was run (a commit), kept in the file")
+    ap.add_argument("--jobs", type=int, default=1, choices=range(1, 9), metavar="1..8",
+                    help="cases run at once (default 1: a case's time then is its own)")
     args = ap.parse_args(argv)
     values = QUICK if args.quick else NUMBERS + WORDS
     counts, bad, wall = Counter(), [], time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         all_cases = cases(Path(tmp), values)
-        for i, (command, option, value, case_argv) in enumerate(all_cases, 1):
-            case = run_case(case_argv, Path(tmp))
-            kind = outcome(case, option, value)
-            counts[kind] += 1
-            if kind not in ("ran", "refused"):
-                bad.append({"command": command, "option": option, "outcome": kind, **case})
-            print(f"{i}/{len(all_cases)} {kind:9s} {case['seconds']:6.1f} s  python -m {' '.join(case_argv)[:90]}",
-                  file=sys.stderr, flush=True)
+        with ThreadPoolExecutor(args.jobs) as pool:  # each case is a subprocess: threads only wait on them
+            ran = pool.map(lambda c: run_case(c[3], Path(tmp)), all_cases)
+            for i, ((command, option, value, case_argv), case) in enumerate(zip(all_cases, ran, strict=True), 1):
+                kind = outcome(case, option, value)
+                counts[kind] += 1
+                if kind not in ("ran", "refused"):
+                    bad.append({"command": command, "option": option, "outcome": kind, **case})
+                print(f"{i}/{len(all_cases)} {kind:9s} {case['seconds']:6.1f} s  python -m {' '.join(case_argv)[:90]}",
+                      file=sys.stderr, flush=True)
     record = {"command": "python -m bench commands " + " ".join(argv if argv is not None else sys.argv[1:]),
               "note": args.note, "machine": machine(), "values": list(values), "time_bound_s": TIME_BOUND_S,
+              "jobs": args.jobs,
               "wall_s": round(time.perf_counter() - wall, 1), "cases": sum(counts.values()), "counts": dict(counts),
               "bad": bad}
     args.out.parent.mkdir(parents=True, exist_ok=True)

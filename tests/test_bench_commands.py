@@ -1,7 +1,8 @@
 """``python -m bench commands`` runs each command with hostile option values as a user runs it (a subprocess)
 and writes what came of each case; on this tree none prints a traceback, hangs or refuses without naming what.
 
-The --quick sample takes a minute or two: marked slow. The outcome rules are checked here on their own."""
+The --quick sample, two cases at a time, takes 25 s to a minute: marked slow. The outcome rules are checked here
+on their own."""
 
 from __future__ import annotations
 
@@ -21,6 +22,8 @@ def test_every_option_is_given_every_value_in_both_forms(tmp_path):
             ("app", "--host")} == options
     written = [a for c, o, v, argv in cases if o == "--seconds" for a in argv if a.startswith("--seconds")]
     assert "--seconds=-1e308" in written and "--seconds" in written  # attached, and apart
+    records = [a[a.index("--out") + 1] for c, o, v, a in cases if c == "app record"]
+    assert len(set(records)) == len(records)  # cases run at once write files of their own
 
 
 @pytest.mark.parametrize("case, option, value, want", [
@@ -49,9 +52,10 @@ def test_no_command_prints_a_traceback_hangs_or_refuses_without_a_name(tmp_path,
     # a fresh machine may compile the kernels in a design's first run: the bound is for hangs, not for that
     monkeypatch.setattr(commands, "TIME_BOUND_S", 600.0)
     out = tmp_path / "commands.json"
-    assert commands.main(["--quick", "--out", str(out), "--note", "test"]) == 0
+    assert commands.main(["--quick", "--jobs", "2", "--out", str(out), "--note", "test"]) == 0
     record = json.loads(Path(out).read_text())
     assert record["cases"] == len(commands.cases(tmp_path, commands.QUICK)) and record["machine"]["cpus"]
+    assert record["jobs"] == 2
     assert record["bad"] == [] and set(record["counts"]) <= {"ran", "refused"}, record["bad"][:3]
     assert record["counts"]["ran"] > 0 and record["counts"]["refused"] > 0
 
