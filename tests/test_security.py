@@ -148,6 +148,19 @@ def test_an_upload_name_is_shown_never_opened():
     assert display_name("") == "scenario.toml" and len(display_name("a" * 500)) == 80
 
 
+def test_a_refused_uploads_keys_are_shown_as_text_under_the_button():
+    from app.panel.panel import _upload_md
+    from app.state import Engine
+
+    eng = Engine()
+    eng.request("upload", ("evil.toml", b"[mass]\n'<img src=x onerror=\"alert(1)\">' = 1\n'**bold**' = 2\n"))
+    eng.tick(0.02)
+    assert eng.upload_note[0] == "refused" and "<img" in eng.upload_note[1]  # physics names the key as it was
+    shown = _upload_md(eng.upload_note)
+    assert shown.startswith("<span style='color:#c00'>") and "unknown key" in shown
+    assert "<img" not in shown and "&lt;img" in shown and "**bold**" not in shown  # escaped: shown, never rendered
+
+
 class _Opened:
     """Records every file the process opens through open() / Path.open()."""
 

@@ -18,7 +18,7 @@ from ..engine.mesh import INERTIA_SHAPE, asset_names
 from ..engine.workers import OVERLAYS
 from ..handles import set_if_changed
 from ..replay.export import ReplayButton
-from ..share.panel import SharePanel
+from ..share.panel import SharePanel, plain
 from . import plots
 from .challenge_panel import ChallengePanel, ClassChallenge
 from .compare_panel import ComparePanel
@@ -387,8 +387,8 @@ def _upload_md(note: tuple[str, str] | None) -> str:
     successfully", which the page's script rewords (app.panel.typed_numbers), since a file received may be refused."""
     if note is None:
         return ""
-    kind, text = note
-    return f"<span style='color:{'#c00' if kind == 'refused' else '#555'}'>{text}</span>"
+    kind, text = note  # a refusal echoes the file's keys and values: shown as text, never as markup
+    return f"<span style='color:{'#c00' if kind == 'refused' else '#555'}'>{plain(text)}</span>"
 
 
 def _digits(*values: float, most: int = 7) -> int:
