@@ -29,20 +29,29 @@ from test_app_browser import (
 )
 
 from app.engine.trail import SAMPLES_PER_TURN
+from app.scene.legend import LEGEND_CLASS
 
 pytestmark = pytest.mark.browser
 Image = pytest.importorskip("PIL.Image")
 SIZES = ((1400, 900), (1024, 768))
 LEGEND_JS = """() => {
-    for (const p of document.querySelectorAll('p')) if (p.innerText.includes('K: angular momentum')) return p.innerText;
-    return '';
+    const el = document.querySelector('.LEGEND_CLASS'); return el ? el.innerText : '';
 }"""
 LEGEND_BOX_JS = """() => {
-    for (const p of document.querySelectorAll('p')) if (p.innerText.includes('K: angular momentum')) {
-        const r = p.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom];
-    }
-    return null;
+    const el = document.querySelector('.LEGEND_CLASS'); if (!el) return null;
+    const r = el.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom];
 }"""
+# the legend's lines and the part of the page its window shows: the nearest box around it that clips what overflows
+LEGEND_SHOWN_JS = """() => {
+    const el = document.querySelector('.LEGEND_CLASS'); if (!el) return null;
+    let box = el.parentElement;
+    while (box && getComputedStyle(box).overflowY === 'visible') box = box.parentElement;
+    const r = el.getBoundingClientRect(), b = box.getBoundingClientRect();
+    return {lines: el.innerText.split('\\n').length, top: r.top, bottom: r.bottom, shown_top: b.top,
+            shown_bottom: b.bottom};
+}"""
+LEGEND_JS, LEGEND_BOX_JS, LEGEND_SHOWN_JS = (js.replace("LEGEND_CLASS", LEGEND_CLASS)
+                                             for js in (LEGEND_JS, LEGEND_BOX_JS, LEGEND_SHOWN_JS))
 SATELLITE = "satellite.stl"
 FLAT_SPIN = "Explorer 1's flat spin"
 MIN_CHANGED = 800  # px: hiding a body drawn 1.5 scene units across changes at least this many canvas pixels
@@ -123,6 +132,27 @@ def test_the_legend_follows_a_pendulum_preset(page):
     assert "moving mass" not in text and "spring" not in text
     choose_until(page, "Preset", FLAT_SPIN, lambda: "moving mass" in legend(page) and "pendulum bob" not in
                  legend(page), "the moving mass's legend again")
+
+
+def test_the_longest_legend_shows_every_line_at_both_sizes(page, app, tmp_path):
+    """A mass, a cavity, a medium, the brake, the sphere and the polhode: 17 lines, the most a preset's legend has.
+    In the panel's own type the last ones were scrolled out of the legend's window, where nobody looks for them."""
+    name = "Braking with a fluid cavity and a resisting medium"
+    choose_until(page, "Preset", name, lambda: "cavity filled" in legend(page), "the cavity's legend")
+    page.locator(f'[id="{control_id(page, "polhode")}"]').check()
+    wait_until(page, lambda: "polhode" in legend(page), "the polhode's line")
+    want = session(app).drawing.legend.markdown.content.count("<br>") + 1  # the lines the page was sent
+    assert want == 17
+    for w, h in SIZES:
+        page.set_viewport_size({"width": w, "height": h})
+        page.wait_for_timeout(1500)
+        shown = page.evaluate(LEGEND_SHOWN_JS)
+        assert shown["lines"] == want, shown  # one line each: none wraps in the legend's width
+        assert shown["shown_top"] <= shown["top"] and shown["bottom"] <= shown["shown_bottom"], (w, h, shown)
+        assert shown["shown_bottom"] <= h, (w, h, shown)  # and the window itself is inside the page
+        page.screenshot(path=str(tmp_path / f"legend_{w}x{h}.png"))
+    page.locator(f'[id="{control_id(page, "polhode")}"]').uncheck()
+    page.set_viewport_size({"width": 1400, "height": 900})
 
 
 def test_aligned_arrows_share_one_label_once_settled(page, app, tmp_path):

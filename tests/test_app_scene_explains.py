@@ -75,6 +75,21 @@ def test_the_legend_follows_the_view_the_polhode_the_mesh_and_the_factor():
     assert "at rest" in averaged and "spring" not in averaged  # no displacement drawn, no factor claimed
 
 
+def test_the_legend_is_one_block_of_lines_with_its_words_as_text_and_the_replay_shows_the_same_lines():
+    from app.replay.page import legend_page_html
+    from app.scene.legend import LEGEND_CLASS
+
+    sc = physics.default_scenario()
+    parts = parts_of(sc, mesh="<b>sat</b>&1.stl")
+    text = legend_markdown(parts)
+    assert text.startswith(f"<div class='{LEGEND_CLASS}' style=") and text.endswith("</div>") and "\n" not in text
+    assert text.count("<br>") == len(entries(parts)) - 1  # one line per part
+    assert "<b>" not in text and "&lt;b&gt;sat&lt;/b&gt;&amp;1.stl" in text  # a file's name is shown as written
+    page = legend_page_html(text)
+    assert page.count("<br>") == len(entries(parts)) - 1 and "<div" not in page and "<b>" not in page
+    assert "&lt;b&gt;sat&lt;/b&gt;&amp;1.stl" in page and page.startswith("<span style='color:#")
+
+
 def test_e3_is_called_the_symmetry_axis_only_on_a_symmetric_body():
     sc = physics.default_scenario()
     assert "e3: symmetry axis" in legend_markdown(parts_of(sc))

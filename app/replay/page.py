@@ -17,6 +17,7 @@ NAMESPACES = ("http://www.w3.org/2000/svg", "http://www.w3.org/1999/xhtml", "htt
               "http://www.w3.org/XML/1998/namespace")
 _URL = re.compile(r"""https?://[^\s"'<>)\\]*""")
 _COLOR_SPAN = re.compile(r"&lt;span style=&#x27;color:(#[0-9a-fA-F]{6})&#x27;&gt;")
+_LEGEND_BLOCK = re.compile(r"^<div [^>]*>|</div>$")  # the panel's block: this page's box has a style of its own
 BOX_ID = "quasirigid-replay"
 
 _STYLE = f"""
@@ -38,12 +39,19 @@ def plot_png(trajectory: physics.Trajectory) -> bytes:
     return buf.getvalue()
 
 
+def legend_page_html(legend: str) -> str:
+    """The explorer's legend (app.scene.legend: one block of coloured marks and words, lines apart by <br>) as this
+    page shows it: everything escaped, then only the colour spans and the line breaks let back in."""
+    text = html.unescape(_LEGEND_BLOCK.sub("", legend))
+    shown = _COLOR_SPAN.sub(r"<span style='color:\1'>", html.escape(text)).replace("&lt;/span&gt;", "</span>")
+    return shown.replace("&lt;br&gt;", "<br>")
+
+
 def page(viser_html: str, *, title: str, toml_text: str, trajectory: physics.Trajectory, legend: str = "",
          caption: str = "") -> str:
     """viser's self-contained player page (``StateSerializer.as_html()``) with the replay's box added."""
     png = base64.b64encode(plot_png(trajectory)).decode("ascii")
-    legend_html = _COLOR_SPAN.sub(r"<span style='color:\1'>", html.escape(legend)).replace("&lt;/span&gt;", "</span>")
-    legend_html = legend_html.replace("  \n", "<br>")
+    legend_html = legend_page_html(legend)
     box = (f"<div id='{BOX_ID}'>"
            f"<h1>Quasirigid replay: {html.escape(title)}</h1>"
            f"<div class='caption'>{html.escape(caption)}</div>"

@@ -9,6 +9,7 @@ legend is the colour on the canvas.
 
 from __future__ import annotations
 
+import html
 from dataclasses import dataclass
 
 import physics
@@ -129,16 +130,22 @@ def entries(p: SceneParts) -> list[Entry]:
 
 
 def legend_markdown(p: SceneParts) -> str:
-    """The legend as markdown: one line per part, a coloured mark then the words."""
-    lines = ["".join(f"<span style='color:{_hex(c)}'>{MARKS[e.mark]}</span>" for c in e.colors) + f" {e.text}"
-             for e in entries(p)]
-    return "  \n".join(lines)
+    """The legend for the panel's markdown: one line per part, a coloured mark then the words (as text: a mesh's
+    file name is the user's), in one HTML block of the smaller type that fits the longest legend in LEGEND_BOX."""
+    lines = ["".join(f"<span style='color:{_hex(c)}'>{MARKS[e.mark]}</span>" for c in e.colors)
+             + f" {html.escape(e.text, quote=False)}" for e in entries(p)]
+    return f"<div class='{LEGEND_CLASS}' style='{LEGEND_STYLE}'>" + "<br>".join(lines) + "</div>"
 
 
 def _hex(rgb: tuple[int, int, int]) -> str:
     return "#" + "".join(f"{int(c):02x}" for c in rgb)
 
 
+# In the panel's own type LEGEND_BOX showed 13 of the 16 lines of a brake, a mass, a cavity, a medium and the sphere
+# whole (the trail's was cut, the sphere's two scrolled out of sight, at 1400x900 and 1024x768); in this type all 17
+# (with the polhode) show
+LEGEND_STYLE = "font-size:12px;line-height:1.3"
+LEGEND_CLASS = "quasirigid-legend"
 LEGEND_BOX = (12, 160, 330, 330)  # px: x, y, width, height of the floating legend: the 3-D view's left side,
 # clear of the body in the middle, of the control panel on the right and of the browser's notices at the top
 # left (software WebGL), within a 768 px tall screen, above where tests click to focus the 3-D view (y = 500)
