@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import signal
 import sys
 import time
@@ -54,6 +55,24 @@ def _attached(argv: list[str]) -> list[str]:
         else:
             out.append(word)
     return out
+
+
+def _writable(option: str, value: str) -> None:
+    """A file the command is to write, checked before its run or design: a long run ended to be told that the
+    name was a folder, or in a folder that does not exist, and nothing of it was kept. (A full disk is still
+    found only when writing.)"""
+    path = Path(value)
+    if not value.strip():
+        why = "names no file; give a file name"
+    elif path.is_dir():
+        why = "is a folder; give a file name in it"
+    elif not path.parent.is_dir():
+        why = f"its folder {str(path.parent)!r} does not exist; give a file in an existing folder"
+    elif not os.access(path if path.exists() else path.parent, os.W_OK):
+        why = "cannot be written (no permission)"
+    else:
+        return
+    raise ScenarioError(option, value, why)
 
 
 def _number(word: str) -> bool:
@@ -170,6 +189,9 @@ def main(argv: list[str] | None = None) -> int:
         warnings.filterwarnings("ignore", NUMPY_FLOATING, RuntimeWarning)
         try:
             sc = _load(args.scenario)
+            for option in ("out", "save"):  # before the run, which a name that cannot be written would waste
+                if getattr(args, option, None) is not None:
+                    _writable(f"--{option}", getattr(args, option))
             if args.command == "design":
                 return run_design(sc, args)
             if args.command == "info":
@@ -200,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"ended: {inf['stop_reason']} at t = {inf['t_stop']:.17g}")
     print(f"theta: {tr.theta[0]:.6g} -> {tr.theta[-1]:.6g} rad;  |K|: {tr.K[0]:.6g} -> {tr.K[-1]:.6g};  "
           f"E: {tr.E[0]:.6g} -> {tr.E[-1]:.6g}")
-    if args.out:
+    if args.out is not None:
         try:
             tr.to_csv(Path(args.out))
         except OSError as exc:

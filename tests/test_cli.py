@@ -70,6 +70,24 @@ def test_bad_arguments_exit_2_with_one_line(args, needle):
     assert len(lines) == 1 and needle in lines[0] and "Traceback" not in res.stderr
 
 
+@pytest.mark.parametrize("command, option, value, needle", [
+    ("run", "--out", "{tmp}", "is a folder"),
+    ("run", "--out", "{tmp}/no/such/folder/run.csv", "does not exist"),
+    ("run", "--out", "", "names no file"),
+    ("design", "--out", "{tmp}", "is a folder"),
+    ("design", "--save", "{tmp}/none/best.toml", "does not exist"),
+])
+def test_a_file_that_cannot_be_written_is_refused_before_the_run(tmp_path, command, option, value, needle):
+    """Before: a run (or a design) went to its end, then was lost to --out / (Is a directory)."""
+    value = value.format(tmp=tmp_path)
+    extra = ["--vary", "mass.Omega=1:3", "--budget", "13"] if command == "design" else []
+    res = _cli(command, str(ROOT / "assets/scenarios/oblate_settling.toml"), *extra, option, value)
+    assert res.returncode == 2 and res.stdout == ""  # nothing ran: not even the run's first line
+    (line,) = res.stderr.strip().splitlines()
+    assert line.startswith(f"error: {option} = {value[:60]!r}"[:-1])  # names the option and the value (a long one cut)
+    assert needle in res.stderr and "Traceback" not in res.stderr and list(tmp_path.iterdir()) == []
+
+
 def test_bad_scenario_file_exit_2_names_the_key(tmp_path):
     f = tmp_path / "bad.toml"
     f.write_text("[body]\nA = 1\nC = 1\nM = 1\n[mass]\nm = 2\nrho = 1\nOmega = 1\n[initial]\nG0 = 1\ntheta0 = 0.1\n"
