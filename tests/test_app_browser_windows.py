@@ -33,7 +33,7 @@ RECTS_JS = """(words) => {
     }
     return {canvas: box(canvas.getBoundingClientRect()), found};
 }"""
-SWEEP, SPEED = "Run a sweep: its best point", "Run the sweep: its chart"
+SWEEP, SPEED = "Run a sweep (", "Run the sweep ("  # the windows' first words, till the button's name
 LEGEND, SPHERE = "K: angular momentum, fixed", "K in body axes"
 
 

@@ -95,7 +95,8 @@ class DesignPanel:
         self.status = gui.add_markdown(READY)  # under Run and Stop, in sight of them at 1024x768 (sweep_panel.py)
         tab = results_window.results_tab(gui, "Design")
         with tab if tab is not None else contextlib.nullcontext():
-            self.result_md = gui.add_markdown("Run a design: its optimum and its runs appear here.")
+            self.result_md = gui.add_markdown("Run a design (**Run design**, in the panel's Design folder): its "
+                                             "optimum and its runs appear here.")
             self.plot = gui.add_plotly(design_view.figure(None), aspect=0.625, config={"displayModeBar": False})
             self.take_btn = gui.add_button("Take the optimum", disabled=True,
                                            hint="load the scene with the optimum's values")

@@ -111,7 +111,8 @@ class SpeedPanel:
         self.bar = gui.add_progress_bar(0.0)
         tab = results_window.results_tab(gui, "Speed vs accuracy")
         with tab if tab is not None else contextlib.nullcontext():
-            self.status = gui.add_markdown("Run the sweep: its chart and recommendation appear here.")
+            self.status = gui.add_markdown("Run the sweep (**Run speed vs accuracy sweep**, in the panel's "
+                                           "Speed vs accuracy folder): its chart and recommendation appear here.")
             # aspect is height / width in viser's browser side (see sweep_panel.py); room below for the legend
             self.plot = gui.add_plotly(figure(None), aspect=0.85, config={"displayModeBar": False})
             self.use_btn = gui.add_button(NOTHING_YET, disabled=True)

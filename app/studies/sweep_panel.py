@@ -98,7 +98,8 @@ class SweepPanel:
                                           "clicking a cell loads its point")
         tab = results_window.results_tab(gui, "Sweep")
         with tab if tab is not None else contextlib.nullcontext():
-            self.result_md = gui.add_markdown("Run a sweep: its best point, chart and points appear here.")
+            self.result_md = gui.add_markdown("Run a sweep (**Run sweep**, in the panel's Sweep folder): its best "
+                                             "point, chart and points appear here.")
             # viser's browser side sizes a plotly chart as height = aspect x width (measured: 0.625 gives
             # 520 x 326 px), so a wide chart needs an aspect below 1
             self.plot = gui.add_plotly(self._empty_figure(), aspect=0.625, config={"displayModeBar": False})
