@@ -54,25 +54,23 @@ def cases(tmp: Path, values) -> list[tuple[str, str, str, list[str]]]:
     as ``--option=value`` and as ``--option value``."""
     sc = str(_scenario(tmp))
     design = ["physics", "design", sc]
+    good = design + ["--vary", "mass.Omega=1:3"]  # the bounds the other options' cases keep
     short = ["--budget", "13", "--workers", "1"]
-
-    def record(n: int) -> list[str]:  # a file for each case: cases may run at once
-        return ["app", "record", "--out", str(tmp / f"r{n}.html")]
-
     names = itertools.count()
+
+    def record() -> list[str]:  # a file for each case: cases may run at once
+        return ["app", "record", "--out", str(tmp / f"r{next(names)}.html")]
+
     out = []
     for v in values:
         out += [("physics design", "--vary", v, design + ["--vary", f"mass.Omega={v}:3", *short]),
                 ("physics design", "--vary", v, design + ["--vary", f"mass.Omega=1:{v}", *short])]
         for form in (lambda option, v=v: [f"{option}={v}"], lambda option, v=v: [option, v]):
-            out += [("physics design", "--accuracy", v, design + ["--vary", "mass.Omega=1:3", *short,
-                                                                  *form("--accuracy")]),
-                    ("physics design", "--budget", v, design + ["--vary", "mass.Omega=1:3", "--workers", "1",
-                                                                *form("--budget")]),
-                    ("physics design", "--workers", v, design + ["--vary", "mass.Omega=1:3", "--budget", "13",
-                                                                 *form("--workers")]),
-                    ("app record", "--seconds", v, record(next(names)) + form("--seconds")),
-                    ("app record", "--warp", v, record(next(names)) + ["--seconds", "1", *form("--warp")]),
+            out += [("physics design", "--accuracy", v, good + [*short, *form("--accuracy")]),
+                    ("physics design", "--budget", v, good + ["--workers", "1", *form("--budget")]),
+                    ("physics design", "--workers", v, good + ["--budget", "13", *form("--workers")]),
+                    ("app record", "--seconds", v, record() + form("--seconds")),
+                    ("app record", "--warp", v, record() + ["--seconds", "1", *form("--warp")]),
                     ("app", "--port", v, ["app", *form("--port")])]
     for host in ("", "192.0.2.1", "a" * 64 + ".example", "1e308"):
         out.append(("app", "--host", host, ["app", "--host", host, "--port", "0"]))

@@ -190,8 +190,8 @@ def main(argv: list[str] | None = None) -> int:
         try:
             sc = _load(args.scenario)
             for option in ("out", "save"):  # before the run, which a name that cannot be written would waste
-                if getattr(args, option, None) is not None:
-                    _writable(f"--{option}", getattr(args, option))
+                if (value := getattr(args, option, None)) is not None:
+                    _writable(f"--{option}", value)
             if args.command == "design":
                 return run_design(sc, args)
             if args.command == "info":
