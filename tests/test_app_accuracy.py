@@ -6,7 +6,9 @@ marks the scene edited, and a raw client's bad value is refused by name with the
 
 from __future__ import annotations
 
+import asyncio
 import dataclasses
+import inspect
 import math
 from pathlib import Path
 from types import SimpleNamespace
@@ -27,7 +29,9 @@ def _user(handle, value) -> None:
     """What a person's choice in the page does: the handle's value, then its callbacks with a client."""
     handle.value = value
     for cb in handle.callbacks:
-        cb(SimpleNamespace(client=object()))
+        out = cb(SimpleNamespace(client=object()))
+        if inspect.iscoroutine(out):  # the panel's value callbacks are coroutines: viser awaits them on its loop
+            asyncio.run(out)
 
 
 @pytest.fixture

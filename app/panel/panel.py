@@ -165,8 +165,11 @@ class Panel:
                          compare=lambda spec: eng.request("compare", spec))
 
         def on(handle, action, convert=lambda v: v):
+            # async, so viser runs it on its event loop right where it stores the client's value. A plain callback
+            # runs later on a pool thread, and by then the frame loop may have set the control back to the
+            # engine's value (_sync_choices, every frame): the old value was read and the choice lost.
             @handle.on_update
-            def _(event):
+            async def _(event):
                 if event.client is None:  # our own assignment of a value: not a user's change
                     return
                 try:  # a raw client can send anything: a bad value is said, never a traceback
@@ -193,7 +196,7 @@ class Panel:
         on(self.restart, "restart_on_change")
 
         @self.preset.on_update
-        def _(event):
+        async def _(event):  # read as it arrives, as on() does: _sync_preset sets the dropdown every frame
             # the scene's own name ("... (edited)", an upload) is not a preset to load
             if event.client is not None and self.preset.value in self.preset_names:
                 eng.request("preset", self.preset.value)
@@ -249,7 +252,7 @@ class Panel:
 
     def _bind_slider(self, key: str, slider) -> None:
         @slider.on_update
-        def _(event):
+        async def _(event):  # read as it arrives, as on() does: a revert or a new scene sets sliders from the loop
             if event.client is None:
                 return
             self.engine.request_value(key, float(slider.value))
