@@ -76,3 +76,34 @@ def test_auto_s_accuracy_chosen_while_the_pool_is_busy_is_applied(app):
 def test_a_fidelity_chosen_while_the_pool_is_busy_is_applied(app):
     seen = _choose_with_the_pool_busy(app, "fidelity", "auto", lambda s: s.engine.fidelity_choice == "auto")
     assert seen["applied"], "the fidelity chosen was lost"
+
+
+def test_two_texts_typed_while_the_pool_is_busy_both_reach_their_sliders(app):
+    """The page's script sends what is typed into a slider's box through one text control (the mailbox); a second
+    message stores its text there before a pool thread would have read the first."""
+    seen = {}
+
+    async def go():
+        async with raw_session(app) as (ws, session):
+            panel, eng = session.panel, session.engine
+            (k1, s1), (k2, s2) = list(panel.sliders.items())[:2]
+            want = {k1: 0.9 * eng.values[k1], k2: 0.9 * eng.values[k2]}  # smaller m and rho: a scene any body takes
+            pool = app.server._thread_executor
+            gate = threading.Event()
+            held = [pool.submit(gate.wait, 30) for _ in range(pool._max_workers)]
+            try:
+                for n, (k, s) in enumerate(((k1, s1), (k2, s2))):
+                    text = f'{{"id": "{s._impl.uuid}", "text": "{want[k]!r}", "n": {n}}}'
+                    await ws.send(encode(type="GuiUpdateMessage", uuid=panel.typed.box._impl.uuid,
+                                         updates={"value": text}))
+                await asyncio.to_thread(_wait, lambda: all(eng.values[k] == v for k, v in want.items()), 1.0)
+            finally:
+                gate.set()
+            await asyncio.to_thread(lambda: [h.result(30) for h in held])
+            await asyncio.to_thread(pool.submit(lambda: None).result, 30)
+            seen["applied"] = await asyncio.to_thread(
+                _wait, lambda: all(eng.values[k] == v for k, v in want.items()), 10.0)
+            seen["values"] = {k: eng.values[k] for k in want}, want, eng.error
+
+    asyncio.run(go())
+    assert seen["applied"], seen["values"]

@@ -121,7 +121,7 @@ class TypedNumbers:
         self.box = gui.add_text(MAILBOX_LABEL, "", hint=None)
 
         @self.box.on_update
-        def _(event):
+        async def _(event):  # read as it arrives (app.panel.panel's on()): a later message would overwrite it
             if event.client is not None:
                 self.received(self.box.value)
 
