@@ -235,3 +235,29 @@ def test_screening_a_tab_again_replaces_its_screen_and_the_last_refusal_callback
         screen_gui_updates(gui, lambda why: None)
     (screen,) = gui._websock_interface._incoming_handlers[msgs.GuiUpdateMessage]
     assert screen.screens == [inner]  # viser's own handler, once, under the one screen
+
+
+MARKUP = "<img src=x onerror=alert(1)>**b**"
+
+
+def test_text_typed_into_a_slider_s_box_is_quoted_beside_it_and_at_the_top_never_rendered(app):
+    """viser renders a markdown element's HTML as it comes: a text typed into a slider's box (the page's script
+    sends it to the tab's mailbox) is quoted in the note beside the slider and, for the time warp, at the top of
+    the panel, escaped."""
+    seen = {}
+
+    async def script(ws, session):
+        panel = session.panel
+        key, slider = next(iter(panel.sliders.items()))
+        box = panel.typed.box
+        await ws.send(_update(box, f'{{"id": "{slider._impl.uuid}", "text": "{MARKUP}", "n": 1}}'))
+        await asyncio.to_thread(_wait, lambda: panel.notes.handles)
+        seen["note"] = panel.notes.handles[0].content
+        await ws.send(_update(box, f'{{"id": "{panel.warp._impl.uuid}", "text": "{MARKUP}", "n": 2}}'))
+        await asyncio.to_thread(_wait, lambda: "onerror" in panel.error_md.content)
+        seen["top"] = panel.error_md.content
+
+    _run(app, script)
+    for shown in (seen["note"], seen["top"]):
+        assert "Rejected" in shown and "&lt;img src=x onerror=alert\\(1\\)&gt;" in shown, shown
+        assert "<img" not in shown and "**b**" not in shown, shown

@@ -14,6 +14,7 @@ elements differ by at least 1): a note at the slider's order + 0.25 sits between
 from __future__ import annotations
 
 from ..engine.edits import Note
+from ..markup import plain
 
 COLORS = {"rejected": "#c00", "fault": "#c00", "widened": "#a15c00", "read": "#555"}
 UNDO_LABEL = "Undo the last change"
@@ -79,7 +80,7 @@ class NotePlace:
 
     def _add(self, key, order: float, note: Note, can_undo: bool) -> None:
         gui = self.gui
-        text = f"<span style='color:{COLORS.get(note.kind, '#c00')}'>{note.text}</span>"
+        text = f"<span style='color:{COLORS.get(note.kind, '#c00')}'>{plain(note.text)}</span>"  # it quotes typed text
         self.handles.append(gui.add_markdown(text, order=order + 0.25))
         if note.kind != "fault":
             return

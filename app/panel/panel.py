@@ -17,8 +17,9 @@ from ..engine.engine import Engine
 from ..engine.mesh import INERTIA_SHAPE, asset_names
 from ..engine.workers import OVERLAYS
 from ..handles import set_if_changed
+from ..markup import plain
 from ..replay.export import ReplayButton
-from ..share.panel import SharePanel, plain
+from ..share.panel import SharePanel
 from . import plots
 from .challenge_panel import ChallengePanel, ClassChallenge
 from .compare_panel import ComparePanel
@@ -353,7 +354,7 @@ class Panel:
         note = edits.shown_note(eng.guard, fr.status, words.status_words(fr.message or ""))
         self.notes.show(note, can_undo=bool(eng.guard.undo))
         beside = note is not None and note.reason == eng.error  # shown under its slider: not again up here
-        set_if_changed(self.error_md, "content", f"<span style='color:#c00'>**Rejected:** {eng.error}</span>"
+        set_if_changed(self.error_md, "content", f"<span style='color:#c00'>**Rejected:** {plain(eng.error)}</span>"
              if eng.error and not beside else "")
         state = "playing" if eng.playing else "paused"
         if fr.status != "running":

@@ -15,7 +15,6 @@ only through ``Engine.request`` (its "scenario" action), applied on the session'
 
 from __future__ import annotations
 
-import html
 import re
 import threading
 import time
@@ -24,6 +23,7 @@ import physics
 
 from ..engine import controls, presets
 from ..engine.engine import Engine
+from ..markup import plain
 from .code import decode, encode, link
 from .link import LINK_KEY, PAGE_KEY
 
@@ -34,7 +34,6 @@ READ_TIMEOUT = 60.0  # s to wait for the browser's storage when the tab connects
 NOTE_SECONDS = 30.0  # how long the status line says what happened to the tab's scene
 SHARED = "shared scene"  # a loaded code's name, when it is no preset as shipped
 RESTORED = "your last scene"  # a restored scene's name, when it is no preset as shipped
-_MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+!|~])")
 
 
 class SharePanel:
@@ -239,13 +238,8 @@ def system_label(system: str) -> str:
     return next((label for label, name in controls.SYSTEM_LABELS.items() if name == system), system)
 
 
-def plain(text: str) -> str:
-    """Text shown in markdown as it is: no markup, no link, whatever a pasted code contains."""
-    return _MARKDOWN.sub(r"\\\1", html.escape(text, quote=False))
-
-
 def _red(markdown: str) -> str:
     return f"<span style='color:#c00'>{markdown}</span>"
 
 
-__all__ = ["SAVE_KEY", "SharePanel", "checked", "plain", "scene_name"]
+__all__ = ["SAVE_KEY", "SharePanel", "checked", "scene_name"]
