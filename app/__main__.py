@@ -8,15 +8,17 @@ import time
 
 import numpy as np
 
+from .argv import numbers_as_values
 from .serve.address import AddressError, listening_port, shown_host
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
 def parse(argv: list[str] | None = None) -> argparse.Namespace:
-    ap = argparse.ArgumentParser(prog="python -m app", description="Serve the Quasirigid explorer in the browser.",
-                                 epilog="python -m app record [SCENARIO.toml] --seconds N --out demo.html writes a "
-                                 "replay that any browser plays from the file (python -m app record --help)")
+    ap = numbers_as_values(argparse.ArgumentParser(
+        prog="python -m app", description="Serve the Quasirigid explorer in the browser.",
+        epilog="python -m app record [SCENARIO.toml] --seconds N --out demo.html writes a replay that any browser "
+        "plays from the file (python -m app record --help)"))
     ap.add_argument("--host", default="127.0.0.1",
                     help="interface to bind (default 127.0.0.1; anything else exposes the explorer to the network)")
     ap.add_argument("--port", type=int, default=8080, help="port (default 8080; 0 = any free port)")

@@ -46,6 +46,23 @@ def test_seconds_outside_its_range_is_refused_naming_it(seconds, capsys, tmp_pat
     assert not (tmp_path / "x.html").exists()
 
 
+@pytest.mark.parametrize("value", ["-1e308", "-5e-324", "-inf", "-NaN", "-1", "-.5"])
+def test_a_negative_value_after_a_space_reaches_its_option_s_check(value, capsys, tmp_path):
+    """``--seconds -1e308`` (a space, not "="): argparse read the value as an option of its own and said only
+    "expected one argument" (app/argv.py). The explorer's own --port is read the same way."""
+    _refused(["--seconds", value, "--out", str(tmp_path / "x.html")], capsys, "--seconds", repr(value),
+             f"1/{REPLAY_FPS:g} s (one frame) to {MAX_SECONDS:g} s")
+    _refused(["--seconds", "1", "--warp", value, "--out", str(tmp_path / "x.html")], capsys, "--warp", repr(value),
+             "10000")
+    try:  # argparse's own refusal (an int that is none) exits; the port's range check returns
+        rc = app_main(["--port", value])
+    except SystemExit as exc:
+        rc = exc.code
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    assert "--port" in err and value in err and "expected one argument" not in err, err
+
+
 def test_a_missing_or_bad_scenario_file_is_refused_naming_it(capsys, tmp_path):
     _refused([str(tmp_path / "nope.toml"), "--seconds", "1", "--out", str(tmp_path / "x.html")], capsys,
              "scenario", "nope.toml", "cannot be read")

@@ -11,6 +11,7 @@ import sys
 import time
 from pathlib import Path
 
+from ..argv import numbers_as_values
 from .record import MAX_SECONDS, REPLAY_FPS
 
 DEFAULT_SECONDS = 20.0
@@ -27,8 +28,9 @@ class _Parser(argparse.ArgumentParser):
 
 
 def parse(argv: list[str] | None = None) -> argparse.Namespace:
-    ap = _Parser(prog="python -m app record", description="Write one self-contained HTML file that replays the "
-                 "explorer's 3-D scene in any browser (no Python, no network), with the plots and the scenario.")
+    ap = numbers_as_values(_Parser(
+        prog="python -m app record", description="Write one self-contained HTML file that replays the explorer's 3-D "
+        "scene in any browser (no Python, no network), with the plots and the scenario."))
     ap.add_argument("scenario", nargs="?", metavar="SCENARIO.toml",
                     help="the scenario to play (default: the explorer's default scene)")
     ap.add_argument("--seconds", default=str(DEFAULT_SECONDS),
