@@ -175,3 +175,11 @@ def test_a_design_that_fails_says_what_ended_it(monkeypatch, raised, said):
     panel.run_btn.fire()
     panel.thread.join(timeout=30)
     assert panel.status.content == said and panel.result_md.content == said
+
+
+def test_before_its_first_design_the_chart_says_what_it_will_show_and_draws_no_axes():
+    """An empty plotly chart drew placeholder ticks (0 to 6 by -1 to 4) that read as data."""
+    panel, _, _ = _panel()
+    fig = panel.plot.figure
+    assert fig.layout.xaxis.visible is False and fig.layout.yaxis.visible is False and not fig.data
+    assert [a.text for a in fig.layout.annotations] == ["each run's objective, drawn as the design runs"]

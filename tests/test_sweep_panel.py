@@ -251,3 +251,12 @@ def test_an_end_no_scene_can_take_is_refused_before_the_sweep_starts():
     assert panel.thread is not None, panel.status.content
     panel.thread.join(timeout=120)
     assert panel.table is not None and len(panel.table.rows) == 1
+
+
+def test_before_its_first_sweep_the_chart_says_what_it_will_show_and_draws_no_axes():
+    """An empty plotly chart drew placeholder ticks (0 to 6 by -1 to 4) that read as data."""
+    sc = _scene()
+    panel = SweepPanel(FakeGui(), lambda: sc, lambda s: None, executor="serial")
+    fig = panel.plot.figure
+    assert fig.layout.xaxis.visible is False and fig.layout.yaxis.visible is False and not fig.data
+    assert [a.text for a in fig.layout.annotations] == ["the metric over the points swept, once they are run"]

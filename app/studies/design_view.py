@@ -10,6 +10,7 @@ import numpy as np
 import physics
 
 from ..engine import controls
+from .results_window import blank_chart
 
 GOAL_WORDS = {"min_positive": "smallest positive", "max": "largest", "min": "smallest"}
 PHASE_COLOURS = {"start": "#7f7f7f", "refine 1": "#1f77b4", "refine 2": "#2ca02c", "check": "#d62728"}
@@ -39,9 +40,9 @@ def best_so_far(path, goal: str) -> np.ndarray:
 
 
 def figure(result: physics.DesignResult | None, stale: bool = False):
-    """The finished design's runs (an empty chart for None)."""
+    """The finished design's runs (for None, a blank chart saying what it will show)."""
     if result is None:
-        return path_figure([], "min", "", "")
+        return blank_chart("each run's objective, drawn as the design runs")
     return path_figure(result.path, result.goal, result.objective, result.unit, stale)
 
 

@@ -52,6 +52,20 @@ def say(status, window, text: str, has_result: bool) -> None:
         window.content = text
 
 
+def blank_chart(what: str):
+    """A study's chart before its first result: no axes (an empty plotly chart drew placeholder ticks, 0 to 6
+    by -1 to 4, that read as data), only ``what`` will be drawn there."""
+    import plotly.graph_objects as go  # plotly only once a study's panel is opened
+
+    fig = go.Figure()
+    fig.update_xaxes(visible=False)
+    fig.update_yaxes(visible=False)
+    fig.add_annotation(text=what, x=0.5, y=0.5, xref="paper", yref="paper", showarrow=False,
+                       font={"size": 12, "color": "#777"})
+    fig.update_layout(margin={"l": 10, "r": 10, "t": 10, "b": 10}, plot_bgcolor="white")
+    return fig
+
+
 def failure(exc: BaseException) -> str:
     """How a study's panel says what ended it: a ScenarioError in its own words (it names the parameter, the value
     and what is allowed), anything else with its kind, since a bare message ("'x'" for a KeyError) says nothing."""

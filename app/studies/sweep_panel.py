@@ -102,7 +102,8 @@ class SweepPanel:
                                              "point, chart and points appear here.")
             # viser's browser side sizes a plotly chart as height = aspect x width (measured: 0.625 gives
             # 520 x 326 px), so a wide chart needs an aspect below 1
-            self.plot = gui.add_plotly(self._empty_figure(), aspect=0.625, config={"displayModeBar": False})
+            blank = results_window.blank_chart("the metric over the points swept, once they are run")
+            self.plot = gui.add_plotly(blank, aspect=0.625, config={"displayModeBar": False})
             self.point = gui.add_dropdown("point", [NO_POINTS], initial_value=NO_POINTS,
                                           hint="computed points: the best (by the rule above) first, then the "
                                           "others, then the failed ones")
@@ -120,14 +121,6 @@ class SweepPanel:
         self._reset_range(2)
 
     # ---- widgets --------------------------------------------------------------------------------
-    @staticmethod
-    def _empty_figure():
-        import plotly.graph_objects as go
-
-        fig = go.Figure()
-        fig.update_layout(margin={"l": 10, "r": 10, "t": 10, "b": 10})
-        return fig
-
     def _take_count(self, which: int) -> None:
         """Keep a points box's count if it is one (``count_of``); otherwise say so and show the count that runs."""
         box = self.n1 if which == 1 else self.n2
