@@ -11,6 +11,7 @@ frame loop is left to run past it."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import threading
 import time
 
@@ -38,6 +39,21 @@ def _wait(predicate, deadline_s: float = 30.0) -> bool:
     return False
 
 
+@contextlib.asynccontextmanager
+async def _pool_held(app):
+    """Every thread of the server's callback pool held while the block runs; then freed, and a callback it
+    delayed has run."""
+    pool = app.server._thread_executor
+    gate = threading.Event()
+    held = [pool.submit(gate.wait, 30) for _ in range(pool._max_workers)]
+    try:
+        yield
+    finally:
+        gate.set()
+        await asyncio.to_thread(lambda: [h.result(30) for h in held])
+        await asyncio.to_thread(pool.submit(lambda: None).result, 30)  # a late callback has run
+
+
 def _choose_with_the_pool_busy(app, control, label: str, frames_applied) -> dict:
     """Send ``label`` to ``control`` (a handle name on the session's panel) while every pool thread is held; let
     the frame loop run until ``frames_applied(session)`` or a second has passed, then free the pool."""
@@ -46,20 +62,13 @@ def _choose_with_the_pool_busy(app, control, label: str, frames_applied) -> dict
     async def go():
         async with raw_session(app) as (ws, session):
             handle = getattr(session.panel, control)
-            pool = app.server._thread_executor
-            gate = threading.Event()
-            held = [pool.submit(gate.wait, 30) for _ in range(pool._max_workers)]
-            try:
+            async with _pool_held(app):
                 stamp = handle._impl.update_timestamp
                 await ws.send(encode(type="GuiUpdateMessage", uuid=handle._impl.uuid, updates={"value": label}))
                 assert await asyncio.to_thread(_wait, lambda: handle._impl.update_timestamp != stamp), \
                     "the server did not take the value"
                 # the frame loop runs on: it applies a request made at once, or sets the control back
                 await asyncio.to_thread(_wait, lambda: frames_applied(session), 1.0)
-            finally:
-                gate.set()
-            await asyncio.to_thread(lambda: [h.result(30) for h in held])
-            await asyncio.to_thread(pool.submit(lambda: None).result, 30)  # a late callback has run
             seen["applied"] = await asyncio.to_thread(_wait, lambda: frames_applied(session), 10.0)
 
     asyncio.run(go())
@@ -88,19 +97,12 @@ def test_two_texts_typed_while_the_pool_is_busy_both_reach_their_sliders(app):
             panel, eng = session.panel, session.engine
             (k1, s1), (k2, s2) = list(panel.sliders.items())[:2]
             want = {k1: 0.9 * eng.values[k1], k2: 0.9 * eng.values[k2]}  # smaller m and rho: a scene any body takes
-            pool = app.server._thread_executor
-            gate = threading.Event()
-            held = [pool.submit(gate.wait, 30) for _ in range(pool._max_workers)]
-            try:
+            async with _pool_held(app):
                 for n, (k, s) in enumerate(((k1, s1), (k2, s2))):
                     text = f'{{"id": "{s._impl.uuid}", "text": "{want[k]!r}", "n": {n}}}'
                     await ws.send(encode(type="GuiUpdateMessage", uuid=panel.typed.box._impl.uuid,
                                          updates={"value": text}))
                 await asyncio.to_thread(_wait, lambda: all(eng.values[k] == v for k, v in want.items()), 1.0)
-            finally:
-                gate.set()
-            await asyncio.to_thread(lambda: [h.result(30) for h in held])
-            await asyncio.to_thread(pool.submit(lambda: None).result, 30)
             seen["applied"] = await asyncio.to_thread(
                 _wait, lambda: all(eng.values[k] == v for k, v in want.items()), 10.0)
             seen["values"] = {k: eng.values[k] for k in want}, want, eng.error
