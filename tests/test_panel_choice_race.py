@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import operator
 import threading
 import time
 
@@ -55,13 +56,13 @@ async def _pool_held(app):
 
 
 def _choose_with_the_pool_busy(app, control, label: str, frames_applied) -> dict:
-    """Send ``label`` to ``control`` (a handle name on the session's panel) while every pool thread is held; let
+    """Send ``label`` to ``control`` (a dotted name on the session's panel) while every pool thread is held; let
     the frame loop run until ``frames_applied(session)`` or a second has passed, then free the pool."""
     seen = {}
 
     async def go():
         async with raw_session(app) as (ws, session):
-            handle = getattr(session.panel, control)
+            handle = operator.attrgetter(control)(session.panel)
             async with _pool_held(app):
                 stamp = handle._impl.update_timestamp
                 await ws.send(encode(type="GuiUpdateMessage", uuid=handle._impl.uuid, updates={"value": label}))
@@ -109,3 +110,15 @@ def test_two_texts_typed_while_the_pool_is_busy_both_reach_their_sliders(app):
 
     asyncio.run(go())
     assert seen["applied"], seen["values"]
+
+
+
+def test_a_comparison_chosen_while_the_pool_is_busy_is_applied(app):
+    """The Compare folder's ``sync`` sets "compare with" back to "off" every frame while the engine runs no
+    comparison, so its callback too must read the choice as it arrives."""
+    from app.engine.compare import Comparison
+    from app.panel.compare_panel import FIDELITY
+
+    seen = _choose_with_the_pool_busy(app, "compare.mode", FIDELITY,
+                                      lambda s: isinstance(s.engine.compare, Comparison))
+    assert seen["applied"], "the comparison chosen was lost"

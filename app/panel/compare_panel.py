@@ -63,8 +63,10 @@ class ComparePanel:
 
     def _bind(self) -> None:
         def user(handle, fn):
+            # async, so viser runs it on its event loop as it stores the value: on a pool thread it could run after
+            # sync had set "compare with" back to "off" (no comparison yet) and read that (as app.panel.panel's on())
             @handle.on_update
-            def _(event):
+            async def _(event):
                 if event.client is not None:  # our own assignment of a value: not a user's change
                     self._busy = True  # sync leaves the widgets alone until the request is queued
                     try:
