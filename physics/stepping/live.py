@@ -263,6 +263,7 @@ class LiveRun:
         return G * np.array([math.sin(th0), 0.0, math.cos(th0)])
 
     # ---- stepping -----------------------------------------------------------------------
+    @np.errstate(all="ignore")  # a non-finite row ends the run with a message (_cut_at_nonfinite), not a warning
     def advance(self, dt: float, samples: int = 1) -> Trajectory:
         """Integrate over [t, t + dt] and return the rows reached at ``samples`` evenly spaced times
         in (t, t + dt] (fewer if the run stops or the per-call step budget runs out first).
@@ -411,7 +412,10 @@ def _numerical_refused(scenario: Scenario):
     plain words. Found by a fuzz of retune: mass.Omega = 1.7e100 raised OverflowError from the quasi-static
     displacement, which the explorer showed as "OverflowError: (34, 'Numerical result out of range')"."""
     try:
-        yield
+        # numpy's overflow warnings would only print to the server's console: what went wrong is said in the
+        # ScenarioError, or the values are checked for being finite (_require_finite) before anything is shown
+        with np.errstate(all="ignore"):
+            yield
     except ScenarioError:
         raise
     except NumericalFault as exc:  # already names its key

@@ -98,12 +98,17 @@ def _dissipated(co: AveragedCoefficients, u0: np.ndarray, U: np.ndarray, t: np.n
     if p.c_d == 0 or not np.any(u0):
         return np.zeros(len(t))
     P = np.diag([0.0, 1.0]).astype(complex)
+    X = None
     try:
-        from scipy.linalg import solve_continuous_lyapunov  # here: scipy.linalg adds 0.2 s to the app's start
+        ev = np.linalg.eigvals(co.matrix)
+        # the Lyapunov equation has no unique solution when two eigenvalues' sum vanishes (an undamped mode: the
+        # carrier's at G0 = 1e-300); scipy then perturbs M and warns, so such a M takes the quadrature below
+        if np.abs(ev[:, None].conj() + ev[None, :]).min() > 1e-12 * np.abs(ev).max():
+            from scipy.linalg import solve_continuous_lyapunov  # here: scipy.linalg adds 0.2 s to the app's start
 
-        X = solve_continuous_lyapunov(co.matrix.conj().T, -P)
+            X = solve_continuous_lyapunov(co.matrix.conj().T, -P)
     except (np.linalg.LinAlgError, ValueError):
-        X = None
+        pass
     if X is None or not np.all(np.isfinite(X)):
         from scipy.integrate import cumulative_trapezoid
 
