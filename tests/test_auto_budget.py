@@ -24,11 +24,25 @@ def _load(name: str) -> physics.Scenario:
     return physics.Scenario.load(SCENARIOS / name)
 
 
-def test_quadratic_friction_runs_a_model_that_fits_and_says_why():
-    """The full model would need ~8e7 steps over 4e5 s; the cheaper models' estimate (0.025 rad) is above the
-    default accuracy, so auto runs the most accurate one that fits, names the full model's steps and states the
-    estimate it runs with."""
+def _strict_quadratic() -> physics.Scenario:
+    """The shipped quadratic-friction scene asked for 1e-4 rad, below its cheaper models' estimate (4.9e-4 rad,
+    from the mass's steady motion; 0.027 rad before it, when the default accuracy was enough for this)."""
+    return _load("quadratic_friction.toml").with_values(**{"run.accuracy": 1e-4})
+
+
+def test_quadratic_friction_at_the_default_accuracy_runs_its_closed_form_by_its_estimate():
     sc = _load("quadratic_friction.toml")
+    choice = choose(sc)
+    assert choice.fidelity == "closed" and estimated_steps(sc, "full") > MAX_STEPS  # the full model is over budget
+    bound = physics.derived(sc)["closed_error_bound"]
+    assert bound <= 1e-3 and choice.reason.startswith(f"closed error estimate {bound:.2g} rad <= accuracy")
+
+
+def test_quadratic_friction_runs_a_model_that_fits_and_says_why():
+    """The full model would need ~8e7 steps over 4e5 s; the cheaper models' estimate is above the accuracy asked
+    for, so auto runs the most accurate one that fits, names the full model's steps and states the estimate it
+    runs with."""
+    sc = _strict_quadratic()
     choice = choose(sc)
     full = choice.steps["full"]
     assert full > MAX_STEPS
@@ -106,7 +120,7 @@ def test_while_the_kernels_build_there_is_no_probe_and_nothing_is_kept(monkeypat
     """The interpreted probe would stall a slider for seconds: no estimate then, and auto's own pick stands."""
     from physics.systems import cost
 
-    sc = _load("quadratic_friction.toml").with_values(**{"run.samples": 1234})  # a scenario not yet cached
+    sc = _strict_quadratic().with_values(**{"run.samples": 1234})  # a scenario not yet cached
     monkeypatch.setattr(cost, "compiled_ready", lambda: False)
     assert estimated_steps(sc, "full") is None and estimated_steps(sc, "closed") == 0.0
     assert choose(sc).fidelity == "full"

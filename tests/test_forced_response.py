@@ -36,6 +36,19 @@ CASES = {
 }
 
 
+def quadratic(sc: physics.Scenario, chi_eq_over_Omega: float) -> physics.Scenario:
+    """``sc`` with quadratic friction alone in place of its damper, lam_q set so that the viscous chi of the same
+    slow rate at the start (accuracy.equivalent_chi, proportional to lam_q) is ``chi_eq_over_Omega`` Omega."""
+    one = sc.with_values(**{"mass.chi": 0.0, "mass.lam_q": 1.0})
+    return one.with_values(**{"mass.lam_q": chi_eq_over_Omega * sc.mass.Omega / accuracy.equivalent_chi(one)})
+
+
+CASES["quadratic friction, prolate"] = quadratic(moving_mass(0.15, C=0.7, theta0=0.5, t_end=1500.0, samples=801,
+                                                             rtol=1e-10), 0.5)
+CASES["quadratic friction, oblate"] = quadratic(moving_mass(0.15, C=1.3, theta0=0.6, t_end=600.0, samples=801,
+                                                            rtol=1e-10), 1.0)
+
+
 @pytest.mark.parametrize("name", CASES)
 def test_the_predicted_theta_follows_the_full_model_to_a_tenth_of_the_cheaper_models_error(name):
     sc = CASES[name]
@@ -63,6 +76,30 @@ def test_the_steady_displacement_is_the_full_models_after_its_transient():
     first_order, _ = quasi_static_displacement(sc, w)  # the averaged theory's u = -a/Omega^2 + chi a'/Omega^4
     assert np.linalg.norm(turn @ u - v) <= 0.02 * np.linalg.norm(v)
     assert np.linalg.norm(turn @ u - v) < 0.5 * np.linalg.norm(turn @ u - turn @ first_order)
+
+
+def test_quadratic_friction_s_steady_displacement_is_the_full_models_after_its_transient():
+    """Along the steady motion the mass's speed |u'| is constant, so quadratic friction -m lam_q |u'| u' is a viscous
+    damper chi = lam_q |u'| whose |u'| is the root of a scalar equation (forced_response._damped). The full model,
+    which knows nothing of that, settles on it: to 1e-3 of |v|, where the averaged theory's displacement (its
+    lam_q |a'| a' / Omega^6 term) is 1.6e-2 off, and a viscous damper at half that chi 0.2 off."""
+    sc = quadratic(moving_mass(0.15, C=1.3, theta0=0.6, t_end=60.0, samples=601, rtol=1e-11), 1.0)
+    full, _ = _runs(sc)
+    w = np.asarray(full.omega[-1])
+    u = np.array([full.internal[k][-1] for k in ("ux", "uy", "uz")])
+    phi = math.atan2(w[1], w[0])
+    turn = np.array([[math.cos(phi), math.sin(phi), 0.0], [-math.sin(phi), math.cos(phi), 0.0], [0.0, 0.0, 1.0]])
+    W = turn @ w
+    g, th = math.hypot(sc.body.A * W[0], sc.body.C * W[2]), math.atan2(sc.body.A * W[0], sc.body.C * W[2])
+    steady = forced_response.steady(sc, g, th)
+    v, chi = steady["v"][0], steady["chi"][0]
+    assert chi > 0
+    first_order, _ = quasi_static_displacement(sc, w)
+    half = forced_response.steady(sc.with_values(**{"mass.lam_q": 0.0, "mass.chi": 0.5 * chi}), g, th)["v"][0]
+    off = np.linalg.norm(turn @ u - v) / np.linalg.norm(v)
+    assert off <= 1e-3
+    assert off < 0.1 * np.linalg.norm(turn @ u - turn @ first_order) / np.linalg.norm(v)
+    assert off < 0.01 * np.linalg.norm(turn @ u - half) / np.linalg.norm(v)
 
 
 def test_the_steady_dissipation_tends_to_the_averaged_models_as_eps_squared():

@@ -18,6 +18,9 @@ two equations for the rates of (|J* w|, theta_G); with no medium and no brake |K
 theta_K' = -P / (dE/dtheta_K). theta_K, the nutation angle of K that the full model reports, is read off the same
 steady motion. A cavity adds its Stokes dissipation at the same nu and its fluid's angular momentum to K.
 
+Quadratic friction, -m lam_q |u'| u', is exact here too: along the steady motion |u'| is constant, so it acts as a
+viscous chi + lam_q |u'|, and |u'| is solved for (``_damped``).
+
 A mass that starts at rest first sheds a free oscillation, which moves theta_K by a jump the steady motion does not
 know: the full model itself is run over that transient (TRANSIENT_DECAYS of the mass's decay times: cheap, some
 1500 steps at most inside the estimate's domain), and the prediction starts where it ends.
@@ -38,6 +41,7 @@ from physics.core.guarded import RightSideError, guarded
 from physics.core.tolerance import atol_for
 from physics.registry import get_model
 from physics.scenario.scenario import Scenario
+from physics.systems.moving_mass.coefficients import coefficients
 
 TABLE = 161  # theta_G points of the rate table the slow motion is integrated on
 TABLE_G = 25  # |J* w| points of that table where a medium or a brake changes it
@@ -50,14 +54,18 @@ TRANSIENT_SAMPLES = 257
 # slowest over t_end = 1e-300 .. 1e100 s on oblate_settling ~7000 (tests/test_forced_response.py)
 MAX_CALLS = 200_000
 RTOL = 1e-10  # the study's own tolerance for the full model
+QUADRATIC_BRACKET = 60  # doublings at most of the bracket of quadratic friction's steady speed
+QUADRATIC_ROUNDS = 60  # Newton's (or bisection's) steps at most towards that speed
+QUADRATIC_RTOL = 1e-14  # ... until it is this close, relative: well below the central differences' step (DIFF)
 E3 = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])  # e3 x
 UNIT3 = np.array([0.0, 0.0, 1.0])
 
 
 def applies(sc: Scenario) -> bool:
-    """A symmetric body and a viscous mass (no quadratic friction), braked, if at all, along K or J* w."""
+    """A symmetric body and a damped mass (viscous, quadratic friction or both), braked, if at all, along K or
+    J* w."""
     ms = sc.mass
-    return (ms is not None and ms.chi > 0 and ms.lam_q == 0 and sc.body.A == sc.body.B
+    return (ms is not None and (ms.chi > 0 or ms.lam_q > 0) and sc.body.A == sc.body.B
             and (sc.control is None or sc.control.b == 0 or sc.control.law in ("K", "Jw")))
 
 
@@ -91,16 +99,15 @@ def steady(sc: Scenario, g: np.ndarray, th: np.ndarray) -> dict[str, np.ndarray]
     dW = nu[:, None] * np.cross(UNIT3, W)
     Wx = _skew(W)
     rotating = (nu * nu)[:, None, None] * (E3 @ E3) + 2.0 * nu[:, None, None] * (Wx @ E3) + _skew(dW) + Wx @ Wx
-    mat = (1.0 - eta) * rotating + O2 * np.eye(3) + ms.chi * nu[:, None, None] * E3
     r = np.broadcast_to(rho * UNIT3, W.shape)
-    v = np.linalg.solve(mat, -(np.cross(dW, r) + np.cross(W, np.cross(W, r)))[:, :, None])[:, :, 0]
-    du = nu[:, None] * np.cross(UNIT3, v)
+    chi, v, du = _damped(sc, (1.0 - eta) * rotating + O2 * np.eye(3), nu,
+                         -(np.cross(dW, r) + np.cross(W, np.cross(W, r)))[:, :, None])
     d = r / (1.0 - eta) + v
     vel = np.cross(W, d) + du
     Jb = np.array([A, A, C]) - m * rho * rho / (1.0 - eta) * np.array([1.0, 1.0, 0.0])
     K = Jb * W + mr * np.cross(d, vel)
     E = 0.5 * np.sum(Jb * W * W, axis=1) + 0.5 * mr * np.sum(vel * vel, axis=1) + 0.5 * m * O2 * np.sum(v * v, axis=1)
-    P = m * ms.chi * np.sum(du * du, axis=1)
+    P = m * chi * np.sum(du * du, axis=1)
     if sc.cavity is not None:
         # the fluid carries k_f = -cav f(w), f the free body's Euler acceleration (A.2), and its torque
         # -(k_f' + w x k_f) does work cav w.Df(w) w'; along the nutation, w' = nu e3 x w, that is -cav nu w1^2 w3
@@ -117,7 +124,47 @@ def steady(sc: Scenario, g: np.ndarray, th: np.ndarray) -> dict[str, np.ndarray]
     brake = Khat if sc.control is None or sc.control.law == "K" else Jw / np.where(g > 0, g, 1.0)[:, None]
     torque = -lam * Jw - b * brake
     return dict(K=Kn, thK=np.arctan2(np.hypot(K[:, 0], K[:, 1]), K[:, 2]), E=E, P=P,
-                wM=np.sum(W * torque, axis=1), KM=np.sum(Khat * torque, axis=1), v=v)
+                wM=np.sum(W * torque, axis=1), KM=np.sum(Khat * torque, axis=1), v=v, chi=chi)
+
+
+def _damped(sc: Scenario, undamped: np.ndarray, nu: np.ndarray, force: np.ndarray):
+    """(chi, v, du): the damping the steady motion sees, its displacement and its velocity, for the matrix
+    ``undamped`` and the forcing ``force`` (n, 3, 1). The mass's damping force is -m (chi + lam_q |u'|) u', and in
+    the steady motion |u'| = |du| is constant (v turns with w_perp about e3), so quadratic friction is exactly a
+    viscous chi + lam_q |du|, with |du| the root s of |du(chi + lam_q s)| = s: Newton's method on it (|du|'s
+    derivative in chi from the same matrix), kept inside a bracket of the root and bisecting where a step leaves it."""
+    ms = sc.mass
+    gyro = nu[:, None, None] * E3
+
+    def solve(chi):
+        mat = undamped + chi[:, None, None] * gyro
+        v = np.linalg.solve(mat, force)[:, :, 0]
+        return mat, v, nu[:, None] * np.cross(UNIT3, v)
+
+    chi = np.full(nu.shape, float(ms.chi))
+    if ms.lam_q == 0:
+        return (chi, *solve(chi)[1:])
+    lo, hi = np.zeros(nu.shape), np.linalg.norm(solve(chi)[2], axis=1)
+    for _ in range(QUADRATIC_BRACKET):  # |du| need not fall as the damping grows (the gyroscopic terms)
+        short = np.linalg.norm(solve(chi + ms.lam_q * hi)[2], axis=1) > hi
+        if not short.any():
+            break
+        hi = np.where(short, 2.0 * hi, hi)
+    s = 0.5 * (lo + hi)
+    for _ in range(QUADRATIC_ROUNDS):
+        mat, v, du = solve(chi + ms.lam_q * s)
+        speed = np.linalg.norm(du, axis=1)
+        f = speed - s
+        if np.all(np.abs(f) <= QUADRATIC_RTOL * hi):
+            break
+        lo, hi = np.where(f > 0, s, lo), np.where(f > 0, hi, s)
+        dv = -np.linalg.solve(mat, gyro @ v[:, :, None])[:, :, 0]  # dv/dchi
+        slope = ms.lam_q * np.sum(du * nu[:, None] * np.cross(UNIT3, dv), axis=1) / np.where(speed > 0, speed, 1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = s - f / (slope - 1.0)
+        s = np.where((step >= lo) & (step <= hi), step, 0.5 * (lo + hi))
+    chi = chi + ms.lam_q * s
+    return (chi, *solve(chi)[1:])
 
 
 def at_K(sc: Scenario, th: np.ndarray, K: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -144,11 +191,16 @@ def rates(sc: Scenario, g: np.ndarray, th: np.ndarray) -> tuple[np.ndarray, np.n
 
 def transient_time(sc: Scenario) -> float:
     """s: TRANSIENT_DECAYS of the slowest decay of the mass's free oscillation, (1 - eta) u'' + chi u' + Omega^2 u
-    = 0."""
+    = 0. Quadratic friction damps a small oscillation about the steady motion at least as a viscous lam_q |du|
+    would (|du| the steady speed at the start); a larger one faster."""
     ms = sc.mass
     a = 1.0 - ms.m / sc.body.M
-    disc = ms.chi * ms.chi - 4.0 * a * ms.Omega**2
-    slowest = ms.chi / (2.0 * a) if disc < 0 else (ms.chi - math.sqrt(disc)) / (2.0 * a)
+    chi = ms.chi
+    if ms.lam_q > 0:
+        co = coefficients(sc)
+        chi = float(steady(sc, np.array([co.G0]), np.array([co.theta0]))["chi"][0])
+    disc = chi * chi - 4.0 * a * ms.Omega**2
+    slowest = chi / (2.0 * a) if disc < 0 else (chi - math.sqrt(disc)) / (2.0 * a)
     return TRANSIENT_DECAYS / slowest
 
 
