@@ -1,9 +1,11 @@
-"""Quadratic friction's error estimate read off its committed studies (issue 23): the set it was calibrated on
-(``python -m bench fidelity --system quadratic_friction --quick --n 40 --workers 2 --seed 15``:
-bench/results/fidelity_quadratic_calibration.{csv,meta.json}), seed 41, which found the first form's violation
-(fidelity_quadratic_seed41), and seed 505, drawn after the revision, the check (fidelity_quadratic); all three run
-with today's estimate and closed forms. Every run in them is the full model
-against the averaged and closed ones; nothing is simulated here."""
+"""Quadratic friction's error estimate read off its committed studies (issue 23), each
+``python -m bench fidelity --system quadratic_friction --quick --n 40 --workers 2 --seed S`` and scored with today's
+estimate (``--rescore``): seed 15 (bench/results/fidelity_quadratic_calibration.{csv,meta.json}), on which the rate
+form the estimate had before was calibrated; seed 41, which found that form's first violation
+(fidelity_quadratic_seed41); seed 505, its check (fidelity_quadratic); seed 8821, drawn for the forced response
+(fidelity_quadratic_seed8821); and seed 9463, drawn after every change (fidelity_quadratic_seed9463). The forced
+response's factors were fitted on none of them (the viscous sets, docs/models.md A.5). Every run in them is the full
+model against the averaged and closed ones; nothing is simulated here."""
 
 from __future__ import annotations
 
@@ -14,14 +16,13 @@ from pathlib import Path
 import pytest
 
 from bench import fidelity as F
-from physics.systems.moving_mass.accuracy import SAFETY
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "bench" / "results"
-# the form was revised after seed 41 found a violation, so seed 41 is not a check: seed 505 is (docs/models.md A.5)
-STUDIES = {"calibration": "fidelity_quadratic_calibration", "revision": "fidelity_quadratic_seed41",
-           "check": "fidelity_quadratic"}
-SEEDS = {"calibration": 15, "revision": 41, "check": 505}
+STUDIES = {"first set": "fidelity_quadratic_calibration", "second set": "fidelity_quadratic_seed41",
+           "third set": "fidelity_quadratic", "fourth set": "fidelity_quadratic_seed8821",
+           "check": "fidelity_quadratic_seed9463"}
+SEEDS = {"first set": 15, "second set": 41, "third set": 505, "fourth set": 8821, "check": 9463}
 GROUPS = ("moving_mass/averaged", "moving_mass/closed")
 
 
@@ -32,7 +33,7 @@ def study(request):
     return request.param, F.read_rows(RESULTS / f"{stem}.csv"), meta
 
 
-def test_the_sets_are_quadratic_friction_alone_and_the_check_is_a_seed_not_fitted_on(study):
+def test_the_sets_are_quadratic_friction_alone_and_of_the_seeds_named(study):
     name, rows, meta = study
     assert meta["seed"] == SEEDS[name]
     assert meta["n"] >= 40 and len({r["index"] for r in rows}) == meta["n"]
@@ -63,11 +64,15 @@ def test_median_over_estimate_coverage_and_autos_cheaper_picks_meet_issue_23(stu
         assert o["auto_cheaper_within_accuracy"] == o["auto_cheaper"], o
 
 
-def test_the_calibration_set_leaves_the_margin_the_code_claims():
-    """accuracy.py: the worst actual / unscaled sum on seed 15 is 1.51, and SAFETY leaves 1.32x beyond it."""
-    meta = json.loads((RESULTS / f"{STUDIES['calibration']}.meta.json").read_text())
-    worst = meta["summary"]["groups"]["moving_mass/averaged"]["worst_actual_over_estimate"]
-    assert 1.0 / worst >= 1.32 and worst * SAFETY == pytest.approx(1.51, abs=0.01)
+def test_the_sets_leave_the_margin_the_code_claims():
+    """accuracy.py: fitted on none of these sets, the forced response's estimate left the worst error at 0.906 of
+    it (SAFETY_FORCED's 1.1x beyond an exact prediction), and its median over-estimate is under 1.15 on each."""
+    worst, medians = [], []
+    for stem in STUDIES.values():
+        g = json.loads((RESULTS / f"{stem}.meta.json").read_text())["summary"]["groups"]["moving_mass/averaged"]
+        worst.append(g["worst_actual_over_estimate"])
+        medians.append(g["median_estimate_over_actual"])
+    assert max(worst) == pytest.approx(0.906, abs=5e-4) and max(medians) < 1.15
 
 
 def test_the_meta_summary_is_the_csvs(study):
@@ -87,7 +92,7 @@ def quoted_row(name: str, meta: dict) -> str:
             f"{g['worst_actual_over_estimate']:.2f} | {spread} |")
 
 
-def test_docs_quote_both_sets_as_their_files_give_them(study):
+def test_docs_quote_every_set_as_its_files_give_it(study):
     name, _rows, meta = study
     text = (ROOT / "docs" / "models.md").read_text()
     assert quoted_row(name, meta) in text, quoted_row(name, meta)
