@@ -30,12 +30,15 @@ def _strict_quadratic() -> physics.Scenario:
     return _load("quadratic_friction.toml").with_values(**{"run.accuracy": 1e-4})
 
 
-def test_quadratic_friction_at_the_default_accuracy_runs_its_closed_form_by_its_estimate():
+def test_quadratic_friction_at_the_default_accuracy_runs_its_averaged_model_by_its_estimate():
+    """The averaged and closed models share one estimate; with quadratic friction the closed form costs more
+    (accuracy.QUADRATIC_ORDER), so auto runs the averaged model."""
     sc = _load("quadratic_friction.toml")
     choice = choose(sc)
-    assert choice.fidelity == "closed" and estimated_steps(sc, "full") > MAX_STEPS  # the full model is over budget
-    bound = physics.derived(sc)["closed_error_bound"]
-    assert bound <= 1e-3 and choice.reason.startswith(f"closed error estimate {bound:.2g} rad <= accuracy")
+    assert choice.fidelity == "averaged" and estimated_steps(sc, "full") > MAX_STEPS  # the full model: over budget
+    bound = physics.derived(sc)["averaged_error_bound"]
+    assert bound == physics.derived(sc)["closed_error_bound"]
+    assert bound <= 1e-3 and choice.reason.startswith(f"averaged error estimate {bound:.2g} rad <= accuracy")
 
 
 def test_quadratic_friction_runs_a_model_that_fits_and_says_why():

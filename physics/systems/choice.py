@@ -140,17 +140,18 @@ DEFAULT_ACCURACY = 1e-3
 CHEAPEST_FIRST = ("closed", "averaged")
 
 
-def cheapest_within(sc, failed) -> tuple[str, str]:
+def cheapest_within(sc, failed, order: tuple[str, ...] = CHEAPEST_FIRST) -> tuple[str, str]:
     """``auto``'s pick from error estimates: the cheapest available model whose estimate (the system's
     ``error_bounds``) is at most ``run.accuracy`` (DEFAULT_ACCURACY when unset), else the full model. ``failed``:
     the structural conditions that do not hold (their estimates do not cover them), which rule out every
-    cheaper model."""
+    cheaper model. ``order``: the cheaper models, cheapest first, where a system knows better than
+    CHEAPEST_FIRST."""
     system = get_system(sc.system)
     tol, asked = _accuracy(sc)
     if failed:
         return "full", "conditions fail: " + "; ".join(map(str, failed))
     worst = None
-    for fid in CHEAPEST_FIRST:
+    for fid in order:
         if fid not in system.models or not system.available(sc, fid)[0]:
             continue
         est = system.error_bounds(sc, fid)

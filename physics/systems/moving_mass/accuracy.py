@@ -38,7 +38,7 @@ from physics.core.blame import NUMERICAL
 from physics.core.errors import ScenarioError
 from physics.registry import Condition, get_model
 from physics.scenario.scenario import Scenario
-from physics.systems.choice import cheapest_within
+from physics.systems.choice import CHEAPEST_FIRST, cheapest_within
 from physics.systems.moving_mass import forced_response
 from physics.systems.moving_mass.coefficients import coefficients
 from physics.systems.moving_mass.validity import FAST_SPRING, structural_conditions, structural_failures
@@ -69,6 +69,13 @@ SAFETY = 2.0
 SAFETY_FORCED = 1.1
 PREDICTION_EPS2 = 2.2
 DOMAIN_DELTA_QUADRATIC = 0.3
+# The averaged and closed models share one estimate (they agree to rounding). With quadratic friction the closed
+# form (2.11) solves for theta at every point of its phases' quadrature from t = 0, and costs more than the averaged
+# model's slow reduction: 3.8x-11.6x its wall time over the 40 scenarios of seed 9463 (the wall_s column of
+# bench/results/fidelity_quadratic_seed9463.csv), and 46x a frame of the shipped scene in the explorer (LiveRun.advance
+# timed over 540 frames of 12 samples), whose clock then reached 2.3e3x of the 1e4x asked for. So auto tries the
+# averaged model first there
+QUADRATIC_ORDER = ("averaged", "closed")
 DOMAIN_CHI_QUADRATIC = (0.05, 3.0)  # chi_eq / Omega: the set's range
 
 # The domain the study covers: (name, value of sc, limit). The estimate claims nothing outside it.
@@ -221,7 +228,8 @@ def choose(sc: Scenario) -> tuple[str, str]:
     """``auto``'s pick for a moving-mass scenario: the cheapest model whose error estimate meets ``run.accuracy``
     (the default accuracy when unset), among those the structural conditions (validity.py) and the estimate's
     calibrated domain leave."""
-    return cheapest_within(sc, [c for c in auto_conditions(sc) if not c.holds])
+    return cheapest_within(sc, [c for c in auto_conditions(sc) if not c.holds],
+                           QUADRATIC_ORDER if sc.mass is not None and sc.mass.lam_q > 0 else CHEAPEST_FIRST)
 
 
 METHOD = ("the full model's theta predicted from the mass's steady forced motion (first order in m, exact in eps; "
