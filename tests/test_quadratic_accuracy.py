@@ -65,3 +65,13 @@ def test_quadratic_friction_beside_other_dissipation_has_no_estimate_and_says_wh
     assert math.isinf(d["averaged_error_bound"])
     failed = [c for c in physics.validity_conditions(sc) if not c.holds]
     assert any(c.name.startswith("lam_q with other dissipation") for c in failed), failed
+
+
+def test_the_damping_conditions_speak_of_the_friction_not_of_a_chi_the_slider_shows_as_0():
+    """The explorer shows each condition's sentence beside the sliders, where chi reads 0 under quadratic friction
+    alone: the sentence says the friction's viscous equivalent is what is judged. The viscous mass's say chi."""
+    quad = {c.name: c.sentence for c in domain(_scenario())}
+    viscous = {c.name: c.sentence for c in domain(_scenario(lam_q=0.0, **{"mass.chi": 5.0}))}
+    for name in ("Omega / chi", "chi / Omega"):
+        assert "friction" in quad[name] and "the viscous chi of its slow rate" in quad[name], quad[name]
+        assert "damper" in viscous[name] and "(chi at" in viscous[name], viscous[name]

@@ -115,6 +115,8 @@ def domain(sc: Scenario) -> list[Condition]:
     # quadratic friction (alone: structural_conditions) is judged by its equivalent viscous damping at the start
     chi = (ms.chi + equivalent_chi(sc)) / ms.Omega
     lo, hi = DOMAIN_CHI_QUADRATIC if ms.lam_q > 0 else DOMAIN_CHI
+    # the page shows these words beside the chi slider, which reads 0 under quadratic friction alone
+    damper, which = (("friction", "the viscous chi of its slow rate") if ms.lam_q > 0 else ("damper", "chi"))
     # delta bounds the rate form's own error (a time shift only while it is small); the forced response has none
     rate_form = ms.lam_q > 0 and not forced_response.applies(sc)
     out = [Condition("delta (the slow rate's next correction)", delta(sc), DOMAIN_DELTA_QUADRATIC,
@@ -125,8 +127,8 @@ def domain(sc: Scenario) -> list[Condition]:
                       "the body is clearly flattened or elongated (C differs from A)"),
             Condition("min(theta0, pi - theta0)", th0, DOMAIN_THETA0, "the start is well away from a flat spin"),
             Condition("Omega / chi", 1.0 / max(chi, 1e-300), 1.0 / lo,
-                      f"the mass's damper is strong enough (chi at least Omega / {1 / lo:g})"),
-            Condition("chi / Omega", chi, hi, f"the mass's damper is soft enough (chi at most {hi:g} Omega)")]
+                      f"the mass's {damper} is strong enough ({which} at least Omega / {1 / lo:g})"),
+            Condition("chi / Omega", chi, hi, f"the mass's {damper} is soft enough ({which} at most {hi:g} Omega)")]
 
 
 def auto_conditions(sc: Scenario) -> list[Condition]:
