@@ -163,8 +163,9 @@ def _damped(sc: Scenario, undamped: np.ndarray, nu: np.ndarray, force: np.ndarra
         with np.errstate(divide="ignore", invalid="ignore"):
             step = s - f / (slope - 1.0)
         s = np.where((step >= lo) & (step <= hi), step, 0.5 * (lo + hi))
-    chi = chi + ms.lam_q * s
-    return (chi, *solve(chi)[1:])
+    else:  # out of rounds: the motion at the last step taken
+        _, v, du = solve(chi + ms.lam_q * s)
+    return chi + ms.lam_q * s, v, du
 
 
 def at_K(sc: Scenario, th: np.ndarray, K: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:

@@ -100,7 +100,7 @@ def _dissipated(co: AveragedCoefficients, u0: np.ndarray, U: np.ndarray, t: np.n
     P = np.diag([0.0, 1.0]).astype(complex)
     X = None
     try:
-        ev = np.linalg.eigvals(co.matrix)
+        ev = co.exponents()  # the matrix's eigenvalues
         # the Lyapunov equation has no unique solution when two eigenvalues' sum vanishes (an undamped mode: the
         # carrier's at G0 = 1e-300); scipy then perturbs M and warns, so such a M takes the quadrature below
         if np.abs(ev[:, None].conj() + ev[None, :]).min() > 1e-12 * np.abs(ev).max():
