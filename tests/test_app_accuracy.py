@@ -6,9 +6,7 @@ marks the scene edited, and a raw client's bad value is refused by name with the
 
 from __future__ import annotations
 
-import asyncio
 import dataclasses
-import inspect
 import math
 from pathlib import Path
 from types import SimpleNamespace
@@ -28,10 +26,7 @@ OBLATE = "Oblate body settling"  # the closed form's estimate (about 0.06 rad) f
 def _user(handle, value) -> None:
     """What a person's choice in the page does: the handle's value, then its callbacks with a client."""
     handle.value = value
-    for cb in handle.callbacks:
-        out = cb(SimpleNamespace(client=object()))
-        if inspect.iscoroutine(out):  # the panel's value callbacks are coroutines: viser awaits them on its loop
-            asyncio.run(out)
+    handle.fire()
 
 
 @pytest.fixture

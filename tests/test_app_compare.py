@@ -4,9 +4,6 @@ braking or faulting leaves the other going; bad differences are refused with a m
 
 from __future__ import annotations
 
-import asyncio
-import inspect
-
 import numpy as np
 import pytest
 
@@ -245,7 +242,6 @@ def test_the_panel_overlays_both_runs_and_turning_off_restores_one():
 def test_a_compare_parameter_not_offered_is_refused_in_words_not_raised():
     """A client's "parameter" value that is not one of the dropdown's (issue 24: StopIteration in the panel's
     callback) is refused with a note naming it and what is offered; nothing is requested of the engine."""
-    from types import SimpleNamespace
 
     from test_app_words import _RecordingGui
 
@@ -258,10 +254,7 @@ def test_a_compare_parameter_not_offered_is_refused_in_words_not_raised():
     for handle in (panel.param, panel.value):
         panel.param.value = "not a parameter"
         before = panel._seq
-        for cb in handle.callbacks:
-            out = cb(SimpleNamespace(client=object()))
-            if inspect.iscoroutine(out):  # the folder's callbacks are coroutines: viser awaits them on its loop
-                asyncio.run(out)
+        handle.fire()
         assert panel._seq == before
         assert e.error.startswith("parameter: 'not a parameter' refused; expected one of ")
         assert panel._labels()[0] in e.error

@@ -6,6 +6,8 @@ choosing a preset again reloads it; a figure's preset turns its overlay on; a sy
 
 from __future__ import annotations
 
+import asyncio
+import inspect
 import math
 import re
 from types import SimpleNamespace
@@ -57,6 +59,14 @@ class _Handle:
 
     def remove(self):
         pass
+
+    def fire(self) -> None:
+        """What a person's change in the page does: every callback, with a client. The panel's value callbacks
+        are coroutines (viser awaits them on its loop), run here to their end."""
+        for cb in self.callbacks:
+            out = cb(SimpleNamespace(client=object()))
+            if inspect.iscoroutine(out):
+                asyncio.run(out)
 
 
 class _RecordingGui:
