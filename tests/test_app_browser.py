@@ -43,7 +43,12 @@ def url():
 # (python -m pytest -q tests/test_app_browser_{controls,typed,reject,scene}.py): 295 and 299 s at FRAME_MS = 100,
 # 181 s at 250, 142 and 137 s at 500, 119 s at 1000. (tests/test_app_browser_typed.py alone: 227 s unthrottled,
 # 167 s at 100.) UI animations (a folder opening) are paced by these frames too: wait for what they show.
-FRAME_MS = 500
+# Debian's chromium 150 (ANGLE on Vulkan on SwiftShader) costs about twice as much: one playing page of the default
+# scene kept 1.07 cores busy at 500 ms, 0.77 at 1000, 0.50 at 2000 (chromium's processes' CPU time over 20 s), and
+# the page's readouts change only at these frames, so 2000 would slow every wait. At 500 the browser files alone ran
+# past 40 minutes, the class test's four pages took 359-385 s, and the braking challenge and Stop design timed out in
+# the full suite; at 1000 those three passed and the class test took 316 s.
+FRAME_MS = 1000
 THROTTLE_JS = """(() => {
     // as the browser's own: every callback asked for before the next frame runs in that frame, with one time
     const ms = FRAME_MS; let queue = [], timer = null, last = 0, id = 0;
