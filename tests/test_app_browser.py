@@ -49,6 +49,9 @@ def url():
 # past 40 minutes, the class test's four pages took 359-385 s, and the braking challenge and Stop design timed out in
 # the full suite; at 1000 those three passed and the class test took 316 s.
 FRAME_MS = 1000
+# a fixed wait for the page to draw what the server just sent (a node hidden, a window docked): three frames, since
+# a message is applied at one frame and drawn at the next, and 1500 ms (three frames at 500) left one at 1000
+SETTLE_MS = 3 * FRAME_MS
 THROTTLE_JS = """(() => {
     // as the browser's own: every callback asked for before the next frame runs in that frame, with one time
     const ms = FRAME_MS; let queue = [], timer = null, last = 0, id = 0;

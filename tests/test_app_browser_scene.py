@@ -17,6 +17,7 @@ import pytest
 from test_app_browser import (
     CHROMIUM,
     FLAGS,
+    SETTLE_MS,
     UI_TIMEOUT,
     browser,  # noqa: F401 (a fixture)
     choose_until,
@@ -145,7 +146,7 @@ def test_the_longest_legend_shows_every_line_at_both_sizes(page, app, tmp_path):
     assert want == 17
     for w, h in SIZES:
         page.set_viewport_size({"width": w, "height": h})
-        page.wait_for_timeout(1500)
+        page.wait_for_timeout(SETTLE_MS)
         shown = page.evaluate(LEGEND_SHOWN_JS)
         assert shown["lines"] == want, shown  # one line each: none wraps in the legend's width
         assert shown["shown_top"] <= shown["top"] and shown["bottom"] <= shown["shown_bottom"], (w, h, shown)
@@ -167,7 +168,7 @@ def test_aligned_arrows_share_one_label_once_settled(page, app, tmp_path):
     assert [lab.text for lab in labels if lab.visible] == ["K, omega, e3"]
     for w, h in SIZES:  # pictures to look at, in tmp_path; the legend stays inside the window
         page.set_viewport_size({"width": w, "height": h})
-        page.wait_for_timeout(1500)
+        page.wait_for_timeout(SETTLE_MS)
         left, top, right, bottom = page.evaluate(LEGEND_BOX_JS)
         assert 0 <= left and right <= w and 0 <= top and bottom <= h, (w, h, left, top, right, bottom)
         page.screenshot(path=str(tmp_path / f"settled_{w}x{h}.png"))
@@ -182,13 +183,13 @@ def test_the_satellite_still_draws_after_a_preset_change(page, app):
     wait_until(page, lambda: f"drawn as {SATELLITE}" in legend(page), "the preset, still drawn as the satellite")
     assert control_value(page, "body drawn as") == SATELLITE
     click(page, "Pause")
-    page.wait_for_timeout(1500)
+    page.wait_for_timeout(SETTLE_MS)
     shape = session(app).drawing.handles["shape"]
     assert len(shape.vertices) > 200  # the satellite's mesh (a cylinder has 194 vertices): server side
     shown = canvas_png(page)
     shape.visible = False  # the server-side hook: hide the body, and the page's canvas must change
     try:
-        page.wait_for_timeout(1500)
+        page.wait_for_timeout(SETTLE_MS)
         hidden = canvas_png(page)
     finally:
         shape.visible = True
@@ -214,7 +215,7 @@ def test_at_10000x_the_trail_stays_a_ring(page, app, tmp_path):
     assert chords.max() <= 2 * reach * np.sin(np.pi / SAMPLES_PER_TURN) * 1.01
     for w, h in SIZES:
         page.set_viewport_size({"width": w, "height": h})
-        page.wait_for_timeout(1500)
+        page.wait_for_timeout(SETTLE_MS)
         page.screenshot(path=str(tmp_path / f"warp10000_{w}x{h}.png"))
     page.set_viewport_size({"width": 1400, "height": 900})
     assert re.search(r"drawn as satellite\.stl", legend(page))

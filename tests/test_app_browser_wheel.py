@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from test_app_browser import (
+    SETTLE_MS,
     browser,  # noqa: F401 (a fixture)
     read,
     wait_until,
@@ -58,16 +59,16 @@ def test_the_wheel_damper_draws_its_wheel_and_names_it_in_the_legend(page, app):
     click(page, "Pause")
     click(page, "Reset")  # t = 0: the body's start attitude, where the camera sees the wheel's face, not its edge
     wait_until(page, lambda: read(page, "t") == "0 s", "the scene reset and paused")
-    page.wait_for_timeout(1500)
+    page.wait_for_timeout(SETTLE_MS)
     wheel = session(app).drawing.parts.nodes["wheel"]  # the disk's scene node (app.scene.figure_view)
     shown = canvas_png(page)
     wheel.visible = False  # the server-side hook: hide the wheel, and the page's canvas must change
     try:
-        page.wait_for_timeout(1500)
+        page.wait_for_timeout(SETTLE_MS)
         hidden = canvas_png(page)
     finally:
         wheel.visible = True
-    page.wait_for_timeout(1500)
+    page.wait_for_timeout(SETTLE_MS)
     again = canvas_png(page)
     changed = np.abs(shown - hidden).max(axis=2) > PIXEL_TOL
     assert int(np.count_nonzero(changed)) >= MIN_CHANGED, (

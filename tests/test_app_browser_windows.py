@@ -10,7 +10,7 @@ import os
 from pathlib import Path
 
 import pytest
-from test_app_browser import browser, click, open_page, url  # noqa: F401 (browser and url are fixtures)
+from test_app_browser import SETTLE_MS, browser, click, open_page, url  # noqa: F401 (browser and url are fixtures)
 
 pytestmark = pytest.mark.browser
 
@@ -50,7 +50,7 @@ def test_the_study_windows_open_beside_the_view_not_over_its_legend_or_sphere(br
         page.get_by_text("Speed vs accuracy", exact=True).first.click()
         click(page, "Open the speed vs accuracy panel")
         page.get_by_text(SPEED).wait_for()
-        page.wait_for_timeout(1500)  # the dock's layout settles
+        page.wait_for_timeout(SETTLE_MS)  # the dock's layout settles
         # the folders the user opened stay open (moving the control panel into the dock closed them all)
         assert page.get_by_role("button", name="Run sweep", exact=True).is_visible()
         rects = page.evaluate(RECTS_JS, [SWEEP, SPEED, LEGEND, SPHERE])
