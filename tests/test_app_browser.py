@@ -150,8 +150,8 @@ def held(page, key: str, other_than: str | None = None) -> str:
     messages once a frame (viser's client reads them in its render loop), so right after a click it can still
     show an earlier value."""
     last = read(page, key)
-    for _ in range(UI_TIMEOUT // (3 * FRAME_MS)):
-        page.wait_for_timeout(3 * FRAME_MS)
+    for _ in range(UI_TIMEOUT // SETTLE_MS):
+        page.wait_for_timeout(SETTLE_MS)
         now = read(page, key)
         if now == last and now != other_than:
             return now
