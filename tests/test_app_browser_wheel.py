@@ -61,7 +61,15 @@ def test_the_wheel_damper_draws_its_wheel_and_names_it_in_the_legend(page, app):
     wait_until(page, lambda: read(page, "t") == "0 s", "the scene reset and paused")
     page.wait_for_timeout(SETTLE_MS)
     wheel = session(app).drawing.parts.nodes["wheel"]  # the disk's scene node (app.scene.figure_view)
+    # the paused picture settles first: the momentum sphere's "end" label can come a few seconds after the system
+    # change (115 pixels), and a first picture taken before it read as the scene drifting
     shown = canvas_png(page)
+    for _ in range(10):
+        page.wait_for_timeout(SETTLE_MS)
+        later = canvas_png(page)
+        if int(np.count_nonzero(np.abs(shown - later).max(axis=2) > PIXEL_TOL)) == 0:
+            break
+        shown = later
     wheel.visible = False  # the server-side hook: hide the wheel, and the page's canvas must change
     try:
         page.wait_for_timeout(SETTLE_MS)
