@@ -46,8 +46,8 @@ def url():
 # Debian's chromium 150 (ANGLE on Vulkan on SwiftShader) costs about twice as much: one playing page of the default
 # scene kept 1.07 cores busy at 500 ms, 0.77 at 1000, 0.50 at 2000 (chromium's processes' CPU time over 20 s), and
 # the page's readouts change only at these frames, so 2000 would slow every wait. At 500 the browser files alone ran
-# past 40 minutes, the class test's four pages took 359-385 s, and the braking challenge and Stop design timed out in
-# the full suite; at 1000 those three passed and the class test took 316 s.
+# past 40 minutes, the class test's four pages took 385 s, and the braking challenge and Stop design failed in the
+# full suite; at 1000 those three passed and the class test took 316 and 359 s.
 FRAME_MS = 1000
 # a fixed wait for the page to draw what the server just sent (a node hidden, a window docked): three frames, since
 # a message is applied at one frame and drawn at the next, and 1500 ms (three frames at 500) left one at 1000
