@@ -722,8 +722,10 @@ def main(argv: list[str] | None = None) -> int:
     n = a.n if a.n is not None else (40 if a.quick else 300)
     if n < 1:
         ap.error(f"--n must be at least 1, got {n}")
-    if a.workers < 1:
-        ap.error(f"--workers must be at least 1, got {a.workers}")
+    from physics.scenario.arguments import MAX_WORKERS
+
+    if not 1 <= a.workers <= MAX_WORKERS:
+        ap.error(f"--workers must be from 1 to {MAX_WORKERS}, got {a.workers}")
     meta = run(n, a.seed, a.quick, a.out, a.img, a.workers, command=command, system=a.system)
     print(json.dumps(meta["summary"], indent=2, default=str))
     return 0

@@ -62,6 +62,7 @@ import numpy as np
 import physics
 from bench.pendulum_ceiling import ACCURACIES, add_study_options, measured, picked_rows, shares, write_study
 from bench.pendulum_hardening import averaged_run, detuned_theta
+from physics.scenario.arguments import MAX_WORKERS
 from physics.scenario.initial import initial_G
 from physics.systems.pendulum.accuracy import SWING_SHIFT, scenario_parts
 from physics.systems.pendulum.averaged import AveragedCoefficients, averaged_theta
@@ -238,8 +239,8 @@ def main(argv: list[str] | None = None) -> int:
     add_study_options(ap)
     ap.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     args = ap.parse_args(argv)
-    if args.workers < 1:
-        ap.error(f"--workers {args.workers}: must be at least 1")
+    if not 1 <= args.workers <= MAX_WORKERS:
+        ap.error(f"--workers {args.workers}: must be from 1 to {MAX_WORKERS}")
     paths, picked = picked_rows(ap, args.study)
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:

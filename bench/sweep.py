@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import physics
+from physics.scenario import arguments
 
 from .machine import machine
 
@@ -206,8 +207,7 @@ def main(argv: list[str] | None = None) -> int:
         vary = parse_vary(args.vary)
         if not vary:
             raise physics.ScenarioError("--vary", "(missing)", "give at least one KEY=SPEC, e.g. --vary k=10:100:20")
-        if args.workers is not None and args.workers < 1:
-            raise physics.ScenarioError("--workers", args.workers, "must be a whole number >= 1")
+        workers = arguments.workers(args.workers, "--workers")
         if args.dask and args.dask != "local":
             try:
                 import distributed  # noqa: F401
@@ -215,7 +215,7 @@ def main(argv: list[str] | None = None) -> int:
                 raise physics.ScenarioError("--dask", args.dask, "needs dask.distributed: pip install "
                                             "'dask[distributed]'") from None
         print(f"scenario: {args.scenario}; executor: "
-              + (f"dask {args.dask}" if args.dask else f"{args.workers or os.cpu_count()} local worker process(es)"),
+              + (f"dask {args.dask}" if args.dask else f"{workers} local worker process(es)"),
               flush=True)
         table = physics.sweep(sc, vary, metrics, out=out, workers=args.workers, dask=args.dask, progress=bar)
     except physics.ScenarioError as exc:

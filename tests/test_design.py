@@ -20,6 +20,7 @@ import pytest
 from watched_runs import watch
 
 import physics
+from physics.scenario.arguments import MAX_WORKERS
 from physics.studies.design import OBJECTIVES, evaluate
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -142,6 +143,20 @@ def test_bad_input_is_one_message_naming_it(vary, objective, message):
     with pytest.raises(physics.ScenarioError, match=message) as info:
         physics.design(_pendulum(), vary, objective, executor="serial")
     assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    # a pool forks all its processes at its first run: 100000 forked over a thousand in 30 s before this bound
+    (dict(workers=100_000), f"workers = 100000: must be a whole number of processes from 1 to {MAX_WORKERS}"),
+    (dict(workers=0), "workers = 0: must be a whole number of processes"),
+    (dict(workers=2.0), "workers = 2.0: must be a whole number of processes"),
+    # once let through to every point, whose runs then all failed on run.accuracy = inf
+    (dict(accuracy=math.inf), "accuracy = inf: must be a finite number > 0 rad"),
+])
+def test_workers_and_accuracy_out_of_range_are_refused_before_any_run(kwargs, message, monkeypatch):
+    monkeypatch.setattr("physics.studies.design.evaluate", lambda *a, **k: pytest.fail("a point ran"))
+    with pytest.raises(physics.ScenarioError, match=re.escape(message)):
+        physics.design(_pendulum(), PENDULUM_VARY, "decay_time", **kwargs)
 
 
 def test_an_objective_nan_everywhere_is_refused_with_the_reason():

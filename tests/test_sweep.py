@@ -14,6 +14,7 @@ import pytest
 from watched_runs import watch
 
 import physics
+from physics.scenario.arguments import MAX_WORKERS
 from physics.studies.metrics import FIT_BAND, decay_time, energy_dissipated, max_displacement
 
 sweep_module = sys.modules["physics.studies.sweep"]  # the name physics.sweep is the function
@@ -207,6 +208,15 @@ def test_an_address_that_is_no_scheduler_address_is_refused_in_words(address):
     assert refused.value.key == "dask"
     assert "tcp://host:port with a port from 1 to 65535" in said or "cannot be reached" in said
     assert len(said) < 1000 and "Timed out" not in said
+
+
+@pytest.mark.parametrize("workers", [100_000, 0, -1, True, 2.5])
+def test_a_number_of_workers_out_of_range_is_refused_before_any_run(workers, monkeypatch):
+    """A pool forks all its processes at its first run: 100000 workers forked over a thousand within 30 s."""
+    monkeypatch.setattr("physics.studies.sweep._run_processes", lambda *a, **k: pytest.fail("the sweep started"))
+    with pytest.raises(physics.ScenarioError, match=f"workers = {workers}: must be a whole number of processes "
+                                                    f"from 1 to {MAX_WORKERS}"):
+        physics.sweep(_short_pendulum(), VARY, ["decay_time"], workers=workers)
 
 
 def test_bad_points_are_rows_not_failures():

@@ -7,6 +7,7 @@ TypeError from deep inside. Each check names the argument as the caller wrote it
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 
 from physics.core.errors import ScenarioError
@@ -49,3 +50,19 @@ def number(value: object, name: str) -> float:
         return float(value)
     except Exception:  # noqa: BLE001 - float() of a caller's object may raise any type
         raise ScenarioError(name, value, "must be a number") from None
+
+
+# The most local processes a sweep or design may start. A pool forks all of its processes at its first run (a
+# ProcessPoolExecutor on fork), so ``workers=100000`` forked over a thousand processes within 30 s, climbing with no
+# end; past the cores they only share them, and 256 is more than any machine we run on has.
+MAX_WORKERS = 256
+
+
+def workers(value: object, name: str = "workers") -> int:
+    """``value`` (a whole number from 1 to MAX_WORKERS) or, when None, the machine's cores."""
+    if value is None:
+        return min(os.cpu_count() or 1, MAX_WORKERS)
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_WORKERS:
+        raise ScenarioError(name, value, f"must be a whole number of processes from 1 to {MAX_WORKERS} (or None: all "
+                                         f"cores, {os.cpu_count() or 1} here); more than the cores only share them")
+    return value

@@ -26,7 +26,6 @@ from __future__ import annotations
 import csv
 import itertools
 import math
-import os
 import threading
 import time
 from collections.abc import Callable, Mapping
@@ -373,17 +372,16 @@ def design(scenario: Scenario, vary: Mapping[str, object], objective: str | Call
                             f"{coarse + 1 + 2 * (len(keys) + 1)}")
     if accuracy is not None:
         accuracy = arguments.number(accuracy, "accuracy")
-        if not accuracy > 0:
-            raise ScenarioError("accuracy", accuracy, "must be > 0 rad (or None: set from the objective)")
+        if not 0 < accuracy < math.inf:
+            raise ScenarioError("accuracy", accuracy, "must be a finite number > 0 rad (or None: set from the "
+                                                      "objective)")
     else:
         accuracy = accuracy_for(scenario, objective) if fidelity == "auto" else None
     arguments.choice(executor, "executor", ("processes", "serial"))
     arguments.callback(progress, "progress")
     if stop is not None and not callable(getattr(stop, "is_set", None)):
         raise ScenarioError("stop", stop, "must be a threading.Event (or None)")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ScenarioError("workers", workers, "must be a whole number >= 1 (or None: all cores)")
-    workers = workers or os.cpu_count() or 1
+    workers = arguments.workers(workers)
     point_scenario(scenario, {}).with_values(**{"run.fidelity": fidelity})  # an unknown fidelity fails here
     stop = stop or threading.Event()
     scale = _Scale(bounds)

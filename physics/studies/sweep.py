@@ -442,7 +442,7 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
     (resolve_key); a spec is what axis_values takes. The grid is the product of the axes, first key
     outermost. ``metric``: a name of physics.metrics.METRICS or a list of names (the first is charted).
     ``out``: CSV appended as points finish; a rerun with the same file skips the points it holds.
-    ``executor``: "processes" (default: ``workers`` local processes, all cores when None) or "serial"
+    ``executor``: "processes" (default: ``workers`` local processes, 1 to MAX_WORKERS, all cores when None) or "serial"
     (in this process). ``dask``: "local" (a LocalCluster of ``workers`` processes), a scheduler address,
     or a distributed.Client; it overrides ``executor``. ``progress(done, total)`` is called in this
     thread as points finish (points skipped from the CSV are not counted). Setting ``stop`` ends the
@@ -484,9 +484,7 @@ def sweep(scenario: Scenario, vary: dict[str, object], metric: str | Sequence[st
         raise ScenarioError("stop", stop, "must be a threading.Event (or None)")
     if out is not None and not isinstance(out, (str, os.PathLike)):
         raise ScenarioError("out", out, "must be a file path (or None)")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ScenarioError("workers", workers, "must be a whole number >= 1 (or None: all cores)")
-    workers = workers or os.cpu_count() or 1
+    workers = arguments.workers(workers)
 
     points = list(itertools.product(*axes))
     header = [*keys, *metrics, *TAIL_COLUMNS]
