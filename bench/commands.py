@@ -34,7 +34,9 @@ from .cli import study_parser
 from .machine import machine
 
 ROOT = Path(__file__).resolve().parents[1]
-NUMBERS = ("5e-324", "-5e-324", "1e-300", "1e308", "-1e308", "nan", "inf", "-inf", "0", "-1", "1e999", "2.5")
+# 100000: a whole number argparse's int takes, far past any sensible count (--workers 100000 forked without end)
+NUMBERS = ("5e-324", "-5e-324", "1e-300", "1e308", "-1e308", "nan", "inf", "-inf", "0", "-1", "1e999", "2.5",
+           "100000")
 WORDS = ("abc", "", " ", "x" * 300, "1,5")
 TIME_BOUND_S = 120.0  # per case: a design of 13 short runs, or the explorer's start
 QUICK = ("5e-324", "-1e308", "nan", "")  # --quick: CI's sample of the values
