@@ -50,6 +50,13 @@ class App:
         # holding the button they just pressed among them).
         self.server.gui.main_panel.dock_right()
         self.sessions: dict[int, Session] = {}
+        # Tabs whose Session is being built (viser's connect callback), and those of them that closed meanwhile:
+        # viser runs the disconnect callback on another thread as soon as the tab goes, and a tab closed while
+        # its Session was built kept a session running for no one (100 clients at once on two cores left 32
+        # sessions alive after every client had gone, each integrating and publishing)
+        self._connecting: set[int] = set()
+        self._closed_early: set[int] = set()
+        self._lock = threading.Lock()
         self.stats: dict = {}
         # (client id, frames its session published) of the last closed tabs: bench/load.py compares them
         # with what each client received; bounded, so a server up for days keeps no record per tab
@@ -66,29 +73,49 @@ class App:
         if self.classroom is not None:
             self.classroom.connect(client)
             return
+        cid = client.client_id
+        with self._lock:
+            self._connecting.add(cid)
+        session = None
         try:
-            self.sessions[client.client_id] = Session(self.server, client, self.scenario, self.stats, self.mesh)
-            self.stats["sessions"] = len(self.sessions)
-            self.stats["opened"] = self.stats.get("opened", 0) + 1
+            session = Session(self.server, client, self.scenario, self.stats, self.mesh)
         except Exception:
             traceback.print_exc()
+        with self._lock:
+            self._connecting.discard(cid)
+            gone = cid in self._closed_early
+            self._closed_early.discard(cid)
+            if session is not None and not gone:
+                self.sessions[cid] = session
+                self.stats["sessions"] = len(self.sessions)
+        if session is not None:
+            self.stats["opened"] = self.stats.get("opened", 0) + 1
+            if gone:
+                self._closed(client, session)
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
         if self.classroom is not None:
             self.classroom.disconnect(client)
             return
-        s = self.sessions.pop(client.client_id, None)
-        self.stats["sessions"] = len(self.sessions)
+        with self._lock:
+            s = self.sessions.pop(client.client_id, None)
+            if client.client_id in self._connecting:  # its Session is still being built: closed when it is
+                self._closed_early.add(client.client_id)
+            self.stats["sessions"] = len(self.sessions)
         if s is not None:
-            s.close()
-            self.stats["closed"] = self.stats.get("closed", 0) + 1
-            self.closed_frames.append((client.client_id, s.published))
-            # A closed session is cyclic garbage (the client's GUI handles hold our callbacks, which close
-            # over the session), which only a full collection frees; CPython runs one only after the
-            # long-lived objects grow by a quarter (~35k here), so each reconnection kept its ~3 MB for
-            # dozens of reconnections. viser holds the client handle until this callback returns: collect
-            # from another thread, once the session's loop has ended and viser has let go.
-            threading.Thread(target=_collect_closed, args=(s.thread,), name="collect-session", daemon=True).start()
+            self._closed(client, s)
+
+    def _closed(self, client: viser.ClientHandle, s: Session) -> None:
+        """End a closed tab's session and free it."""
+        s.close()
+        self.stats["closed"] = self.stats.get("closed", 0) + 1
+        self.closed_frames.append((client.client_id, s.published))
+        # A closed session is cyclic garbage (the client's GUI handles hold our callbacks, which close over the
+        # session), which only a full collection frees; CPython runs one only after the long-lived objects grow by
+        # a quarter (~35k here), so each reconnection kept its ~3 MB for dozens of reconnections. viser holds the
+        # client handle until this callback returns: collect from another thread, once the session's loop has
+        # ended and viser has let go.
+        threading.Thread(target=_collect_closed, args=(s.thread,), name="collect-session", daemon=True).start()
 
     @property
     def port(self) -> int:
