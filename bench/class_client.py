@@ -46,6 +46,7 @@ class Tab:
         self.shapes: list[float] = []  # time.time() of each window that drew the session's body shape anew
         self.errors: list[str] = []
         self.storage_reads = 0
+        self.texts: list[str] = []  # the markdown the server put in this tab's panel, in order
         self.outbox: asyncio.Queue | None = None
         self.loop: asyncio.AbstractEventLoop | None = None
 
@@ -66,6 +67,8 @@ class Tab:
                 self.storage_reads += 1
                 replies.append(_encode(dict(type="LocalStorageGetItemResponseMessage", request_uuid=m["request_uuid"],
                                             value=self.storage.get(m["key"]), error=None)))
+            elif kind == "GuiMarkdownMessage":
+                self.texts.append(str(m.get("props", {}).get("_markdown", "")))
             elif name.startswith("/s") and name.endswith(BODY_NODE) and kind == "SetOrientationMessage":
                 body = True
             elif name.startswith("/s") and name.endswith(SHAPE_NODE) and kind != "RemoveSceneNodeMessage":

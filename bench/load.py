@@ -264,6 +264,7 @@ def _after_clients_left(app, wait: float = 15.0) -> dict:
     objects = gc.get_objects()
     live = sum(isinstance(o, Session) for o in objects)
     return dict(sessions_opened=app.stats.get("opened", 0), sessions_closed=app.stats.get("closed", 0),
+                tabs_told_full=app.stats.get("full", 0),  # beyond app.serve.capacity.MAX_TABS
                 live_sessions_after_clients_left=live - len(app.sessions), gc_objects_after_clients_left=len(objects),
                 published_by_session=published)
 

@@ -41,6 +41,7 @@ from ..engine.engine import Engine
 from ..engine.frame import non_finite
 from ..panel.challenge_panel import ClassChallenge
 from ..share.link import CLASS_KEY
+from .capacity import MAX_TABS, full_note
 from .class_view import ClassDrawing, EngineView, FollowerView, LecturerView, Shared, show_class_scene, waiting_note
 from .pace import Pace
 from .scoreboard import Scoreboard
@@ -77,6 +78,7 @@ class ClassRoom:
         self._joins: deque = deque()  # (client, role) to give a view, in the loop
         self._gone: dict[int, None] = {}  # ids of the tabs that closed (the latest GONE_KEPT), an ordered set
         self._explores: deque = deque()  # clients whose student asked for a run of their own
+        self._admitting = 0  # tabs whose role is being read (connect's threads)
         self.ticks = 0  # class engine ticks: one per frame, however many tabs follow
         self.frames = 0
         self.first_frame_after: dict[int, float] = {}  # lecturer's change seq -> s until every view had its frame
@@ -111,16 +113,38 @@ class ClassRoom:
 
     # ---- tabs connecting and leaving (viser's threads) ---------------------------------------------------
     def connect(self, client: viser.ClientHandle) -> None:
+        # each tab's role is read on a thread of its own (up to ROLE_TIMEOUT): at most MAX_TABS at once
+        with self._lock:
+            full = self._admitting >= MAX_TABS
+            self._admitting += not full
+        if full:
+            self._full(client)
+            return
         threading.Thread(target=self._admit, args=(client,), name=f"class-admit-{client.client_id}",
                          daemon=True).start()
 
+    def _tabs(self) -> int:
+        """The students' tabs the class serves: following, waiting, joining or on a run of their own."""
+        return len(self.views) + len(self.waiting) + len(self._joins) + len(self.explorers)
+
+    def _full(self, client: viser.ClientHandle) -> None:
+        self.stats["full"] = self.stats.get("full", 0) + 1
+        full_note(client, "the class")
+
     def _admit(self, client: viser.ClientHandle) -> None:
         try:
-            role = self._role(client)
+            try:
+                role = self._role(client)
+            finally:
+                with self._lock:
+                    self._admitting -= 1
             if role == "lecturer":
                 self.open()
             with self._lock:
                 if client.client_id in self._gone:
+                    return
+                if role == "student" and self._tabs() >= MAX_TABS:  # the lecturer's tab is always let in
+                    self._full(client)
                     return
                 if self.engine is None:  # a student before the lecturer: a note until the class opens
                     self.waiting[client.client_id] = (client, waiting_note(client))

@@ -16,6 +16,7 @@ import viser
 import physics
 
 from .address import listening_port
+from .capacity import MAX_TABS, full_note
 from .guard import refuse_share_tunnel
 from .session import Session
 
@@ -75,7 +76,13 @@ class App:
             return
         cid = client.client_id
         with self._lock:
-            self._connecting.add(cid)
+            full = len(self.sessions) + len(self._connecting) >= MAX_TABS
+            if not full:
+                self._connecting.add(cid)
+        if full:
+            self.stats["full"] = self.stats.get("full", 0) + 1
+            full_note(client, "the explorer")
+            return
         session = None
         try:
             session = Session(self.server, client, self.scenario, self.stats, self.mesh)
