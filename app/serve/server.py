@@ -22,6 +22,8 @@ from .session import Session
 
 __all__ = ["App", "Session", "warm_up"]
 
+GONE_KEPT = 10_000  # closed tabs' ids remembered: far more than connect callbacks ever wait in viser's queue
+
 
 class App:
     """The server and its sessions."""
@@ -51,12 +53,12 @@ class App:
         # holding the button they just pressed among them).
         self.server.gui.main_panel.dock_right()
         self.sessions: dict[int, Session] = {}
-        # Tabs whose Session is being built (viser's connect callback), and those of them that closed meanwhile:
-        # viser runs the disconnect callback on another thread as soon as the tab goes, and a tab closed while
-        # its Session was built kept a session running for no one (100 clients at once on two cores left 32
-        # sessions alive after every client had gone, each integrating and publishing)
+        # Tabs whose Session is being built (viser's connect callback), and the last tabs that closed: viser runs
+        # the disconnect callback on another thread as soon as a tab goes, and a tab closed while its Session was
+        # built kept a session running for no one (2 of 60 bench-load clients). A connect callback queued behind
+        # others may even start after its tab has gone: it builds nothing then.
         self._connecting: set[int] = set()
-        self._closed_early: set[int] = set()
+        self._gone: dict[int, None] = {}  # the last GONE_KEPT closed tabs' ids, an ordered set
         self._lock = threading.Lock()
         self.stats: dict = {}
         # (client id, frames its session published) of the last closed tabs: bench/load.py compares them
@@ -76,6 +78,9 @@ class App:
             return
         cid = client.client_id
         with self._lock:
+            if cid in self._gone:
+                self.stats["gone_before_built"] = self.stats.get("gone_before_built", 0) + 1
+                return
             full = len(self.sessions) + len(self._connecting) >= MAX_TABS
             if not full:
                 self._connecting.add(cid)
@@ -90,8 +95,7 @@ class App:
             traceback.print_exc()
         with self._lock:
             self._connecting.discard(cid)
-            gone = cid in self._closed_early
-            self._closed_early.discard(cid)
+            gone = cid in self._gone
             if session is not None and not gone:
                 self.sessions[cid] = session
                 self.stats["sessions"] = len(self.sessions)
@@ -106,8 +110,9 @@ class App:
             return
         with self._lock:
             s = self.sessions.pop(client.client_id, None)
-            if client.client_id in self._connecting:  # its Session is still being built: closed when it is
-                self._closed_early.add(client.client_id)
+            self._gone[client.client_id] = None  # a Session being built for it is closed when it is
+            if len(self._gone) > GONE_KEPT:
+                del self._gone[next(iter(self._gone))]
             self.stats["sessions"] = len(self.sessions)
         if s is not None:
             self._closed(client, s)
