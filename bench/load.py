@@ -245,8 +245,8 @@ def _note_shown(churns: list, shown: set[int]) -> None:
 
 def _after_clients_left(app, wait: float = 15.0) -> dict:
     """Counts once every client has gone: sessions opened and closed, the frames each session published,
-    and the ``Session`` objects still alive. A closed session is cyclic garbage that App frees in a
-    ``collect-session`` thread (app/serve/server.py ``_collect_closed``); those threads are waited for, and
+    and the ``Session`` objects still alive. A closed session is cyclic garbage that App frees in its
+    ``collect-sessions`` thread (app/serve/server.py ``Collector``); that thread is waited for, and
     nothing here runs a collection itself, so a session that cleanup missed is counted."""
     import gc
 
@@ -255,9 +255,9 @@ def _after_clients_left(app, wait: float = 15.0) -> dict:
     end = time.perf_counter() + wait
     while app.sessions and time.perf_counter() < end:  # the clients' last disconnections being handled
         time.sleep(0.1)
-    time.sleep(0.5)  # a collect thread is started by the disconnect callback, just after the pop above
+    time.sleep(0.5)  # the collector is given the session by the disconnect callback, just after the pop above
     for t in threading.enumerate():
-        if t.name == "collect-session":
+        if t.name == "collect-sessions":
             t.join(timeout=max(0.1, end - time.perf_counter()))
     published = {str(cid): n for cid, n in app.closed_frames}
     published.update({str(cid): s.published for cid, s in app.sessions.items()})
