@@ -217,7 +217,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"scenario: {args.scenario}; executor: "
               + (f"dask {args.dask}" if args.dask else f"{workers} local worker process(es)"),
               flush=True)
-        table = physics.sweep(sc, vary, metrics, out=out, workers=args.workers, dask=args.dask, progress=bar)
+        table = physics.sweep(sc, vary, metrics, out=out, workers=workers, dask=args.dask, progress=bar)
     except physics.ScenarioError as exc:
         bar.close()
         print(f"error: {exc}", file=sys.stderr)
