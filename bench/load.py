@@ -246,7 +246,7 @@ def _note_shown(churns: list, shown: set[int]) -> None:
 def _after_clients_left(app, wait: float = 15.0) -> dict:
     """Counts once every client has gone: sessions opened and closed, the frames each session published,
     and the ``Session`` objects still alive. A closed session is cyclic garbage that App frees in its
-    ``collect-sessions`` thread (app/serve/server.py ``Collector``); that thread is waited for, and
+    ``collect-sessions`` thread (app/serve/closing.py ``Collector``); that thread is waited for, and
     nothing here runs a collection itself, so a session that cleanup missed is counted."""
     import gc
 

@@ -1,4 +1,4 @@
-"""The server's collector of closed sessions (app.serve.server.Collector): many closed together are freed by a few
+"""The server's collector of closed sessions (app.serve.closing.Collector): many closed together are freed by a few
 full collections, not one each, and none is kept once its loop has ended."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import weakref
 
 from test_class_mode import wait_until
 
-from app.serve.server import Collector
+from app.serve.closing import Collector
 
 
 class Cyclic:

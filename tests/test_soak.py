@@ -2,7 +2,7 @@
 one session loads the next preset every 2.5 s and the second client reconnects every 2.5 s (a session built
 and torn down each time). Memory is checked by counting objects, not by RSS on shared cores: after every
 client has left and the server's cleanup has run, no ``Session`` object is alive. A closed session is
-cyclic garbage that App frees itself (app/serve/server.py ``Collector``); without that, the sessions of
+cyclic garbage that App frees itself (app/serve/closing.py ``Collector``); without that, the sessions of
 the last dozens of reconnections stay alive until Python's next full collection (docs/reliability.md,
 "The leak"). The RSS target (growth under 5 % over 60 minutes) is the benchmark's:
 ``python -m bench soak --minutes 60`` prints and records it."""

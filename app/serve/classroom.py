@@ -23,12 +23,12 @@ frames, so the class engine is read by one thread only.
 
 from __future__ import annotations
 
-import gc
 import hmac
 import secrets
 import threading
 import time
 import traceback
+import weakref
 from collections import deque
 
 import viser
@@ -43,6 +43,7 @@ from ..panel.challenge_panel import ClassChallenge
 from ..share.link import CLASS_KEY
 from .capacity import MAX_TABS, full_note
 from .class_view import ClassDrawing, EngineView, FollowerView, LecturerView, Shared, show_class_scene, waiting_note
+from .closing import COLLECTOR, ClosedTabs
 from .pace import Pace
 from .scoreboard import Scoreboard
 from .session import CROWD_PLOT_HZ, Session
@@ -50,7 +51,6 @@ from .session import CROWD_PLOT_HZ, Session
 KEY_BYTES = 16  # of randomness in the lecturer's key (secrets.token_urlsafe: 22 characters)
 ROLE_TIMEOUT = 5.0  # s to wait for a tab's storage to say whether it carries the key; then it is a student's
 MAX_KEY_CHARS = 200  # of a class parameter compared with the key (the page's script cuts it there too)
-GONE_KEPT = 10_000  # closed tabs remembered (their ids), so one closing while it joins gets no view
 JOINS_PER_FRAME = 1  # views built between two frames: a crowd joining at once slows the class's frames a little
 PLOT_FRAMES = 4  # at most one frame in this many carries the plots: a slow machine's frames stay light
 # a crowd of following tabs gets the plots this often: each tab's copy of the plots' arrays is encoded and sent
@@ -76,7 +76,7 @@ class ClassRoom:
         self.waiting: dict[int, tuple] = {}  # client id -> (client, the note), before the class opens
         self._lock = threading.Lock()
         self._joins: deque = deque()  # (client, role) to give a view, in the loop
-        self._gone: dict[int, None] = {}  # ids of the tabs that closed (the latest GONE_KEPT), an ordered set
+        self._gone = ClosedTabs()  # so a tab closing while it joins gets no view
         self._explores: deque = deque()  # clients whose student asked for a run of their own
         self._admitting = 0  # tabs whose role is being read (connect's threads)
         self.ticks = 0  # class engine ticks: one per frame, however many tabs follow
@@ -156,9 +156,7 @@ class ClassRoom:
     def disconnect(self, client: viser.ClientHandle) -> None:
         cid = client.client_id
         with self._lock:
-            self._gone[cid] = None
-            if len(self._gone) > GONE_KEPT:
-                del self._gone[next(iter(self._gone))]
+            self._gone.add(cid)
             self.waiting.pop(cid, None)
             session = self.explorers.pop(cid, None)
         if session is not None:
@@ -229,7 +227,7 @@ class ClassRoom:
         session.close()
         if session.thread is not threading.current_thread():
             session.thread.join(timeout=5.0)
-        threading.Thread(target=gc.collect, name="collect-session", daemon=True).start()  # cyclic: see App
+        COLLECTOR.add(session.thread, weakref.ref(session))  # cyclic garbage: app.serve.closing
 
     def _count(self) -> None:
         """Loops running (the class's and each student's own run): what each loop's Pace divides the server by."""

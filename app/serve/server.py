@@ -4,9 +4,7 @@ and what happens when a tab connects or closes.
 
 from __future__ import annotations
 
-import gc
 import threading
-import time
 import traceback
 import warnings
 import weakref
@@ -18,12 +16,11 @@ import physics
 
 from .address import listening_port
 from .capacity import MAX_TABS, full_note
+from .closing import COLLECTOR, ClosedTabs
 from .guard import refuse_share_tunnel
 from .session import Session
 
 __all__ = ["App", "Session", "warm_up"]
-
-GONE_KEPT = 10_000  # closed tabs' ids remembered: far more than connect callbacks ever wait in viser's queue
 
 
 class App:
@@ -59,7 +56,7 @@ class App:
         # built kept a session running for no one (2 of 60 bench-load clients). A connect callback queued behind
         # others may even start after its tab has gone: it builds nothing then.
         self._connecting: set[int] = set()
-        self._gone: dict[int, None] = {}  # the last GONE_KEPT closed tabs' ids, an ordered set
+        self._gone = ClosedTabs()
         self._lock = threading.Lock()
         self.stats: dict = {}
         # (client id, frames its session published) of the last closed tabs: bench/load.py compares them
@@ -111,9 +108,7 @@ class App:
             return
         with self._lock:
             s = self.sessions.pop(client.client_id, None)
-            self._gone[client.client_id] = None  # a Session being built for it is closed when it is
-            if len(self._gone) > GONE_KEPT:
-                del self._gone[next(iter(self._gone))]
+            self._gone.add(client.client_id)  # a Session being built for it is closed when it is
             self.stats["sessions"] = len(self.sessions)
         if s is not None:
             self._closed(client, s)
@@ -123,11 +118,8 @@ class App:
         s.close()
         self.stats["closed"] = self.stats.get("closed", 0) + 1
         self.closed_frames.append((client.client_id, s.published))
-        # A closed session is cyclic garbage (the client's GUI handles hold our callbacks, which close over the
-        # session), which only a full collection frees; CPython runs one only after the long-lived objects grow by
-        # a quarter (~35k here), so each reconnection kept its ~3 MB for dozens of reconnections. viser holds the
-        # client handle until this callback returns: collect from another thread, once the session's loop has
-        # ended and viser has let go.
+        # cyclic garbage, and viser holds the client handle until this callback returns: freed on another
+        # thread once the session's loop has ended and viser has let go (app.serve.closing)
         COLLECTOR.add(s.thread, weakref.ref(s))
 
     @property
@@ -140,60 +132,6 @@ class App:
         for s in list(self.sessions.values()):
             s.close()
         self.server.stop()
-
-
-class Collector:
-    """One thread that frees closed sessions (see App._closed) and hands their memory back to the system.
-
-    A session is freed by a full collection once its loop has ended and viser's disconnect handling has let go of
-    its client handle. A thread per closed tab, each collecting once a second after its loop ended, left 28 of 64
-    sessions in memory when 100 tabs left at once (bench load; viser still held some handles then), each of the
-    64 threads running its own full collection of a 300,000-object heap. This one collects once every ``delay``
-    while a closed session whose loop has ended is still in memory, watching each for at most ``loop_wait +
-    patience`` seconds after it closed, however many closed together."""
-
-    def __init__(self, delay: float = 1.0, patience: float = 10.0, loop_wait: float = 5.0):
-        self.delay, self.patience, self.loop_wait = delay, patience, loop_wait
-        self._lock = threading.Lock()
-        self._watched: list[tuple[threading.Thread, weakref.ref, float]] = []  # (loop, session, give up at)
-        self._thread: threading.Thread | None = None
-        self.collections = 0
-
-    def add(self, loop: threading.Thread, session: weakref.ref) -> None:
-        with self._lock:
-            self._watched.append((loop, session, time.monotonic() + self.loop_wait + self.patience))
-            if self._thread is None:
-                self._thread = threading.Thread(target=self._run, name="collect-sessions", daemon=True)
-                self._thread.start()
-
-    def _run(self) -> None:
-        while True:
-            time.sleep(self.delay)  # viser's disconnect handling drops its last references meanwhile
-            with self._lock:
-                now = time.monotonic()
-                self._watched = [w for w in self._watched if w[1]() is not None and now < w[2]]
-                ready = any(not loop.is_alive() for loop, _, _ in self._watched)
-                if not self._watched:
-                    self._thread = None
-                    return
-            if ready:
-                gc.collect()  # a full collection: the sessions' objects have long reached the oldest generation
-                self.collections += 1
-                _trim_heap()
-
-
-COLLECTOR = Collector()
-
-
-def _trim_heap() -> None:
-    """Hand freed memory back to the system after a tab's session is freed: glibc keeps its buffers
-    otherwise (docs/reliability.md). Elsewhere than glibc this does nothing."""
-    try:
-        import ctypes
-
-        ctypes.CDLL("libc.so.6").malloc_trim(0)
-    except (OSError, AttributeError):
-        pass
 
 
 def warm_up() -> None:
