@@ -12,6 +12,7 @@ import re
 import subprocess
 import sys
 import time
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -160,6 +161,9 @@ def test_explore_from_here_starts_at_the_class_state_and_follow_returns(klass):
     for t in tabs.values():
         t.send(gui_update(back, True))  # only the tab that has the button is heard
     wait_until(lambda: cid in room.views and cid not in room.explorers, what="following again")
+    ended = weakref.ref(session)  # the run it left is cyclic garbage: the server's collector frees it
+    session = back = None  # (the lambdas above hold the names, not the objects)
+    wait_until(lambda: ended() is None, timeout=30.0, what="the student's own run freed")
     tabs["lecturer"].send(gui_update(views(room, "lecturer")[0].panel.playbar.buttons, "Play"))
 
 

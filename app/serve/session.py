@@ -8,6 +8,7 @@ from __future__ import annotations
 import threading
 import time
 import traceback
+import weakref
 from collections import deque
 
 import viser
@@ -49,8 +50,11 @@ class Session:
         # a server started on a scenario or mesh of its own shows that, not the browser's last scene
         self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None and engine is None,
                            still=engine is None, klass=klass)  # klass: a class's challenge (app.serve.scoreboard)
-        cap_streamed_uploads(client.gui, self._refuse_upload)  # the size cap holds while the parts arrive
-        screen_gui_updates(client.gui, self._refuse_value)  # a value that does not fit its control never reaches viser
+        # Both stay on the tab's connection for as long as the tab (a class student's "Follow the class" ends
+        # this session and leaves the screens on): they tell this session through weak references, or each
+        # explore and follow would keep the session it left in memory until the tab closed.
+        cap_streamed_uploads(client.gui, _weakly(self._refuse_upload))  # the size cap holds while the parts arrive
+        screen_gui_updates(client.gui, _weakly(self._refuse_value))  # a value that does not fit never reaches viser
         self.drawing = Drawing(client, self.engine)
         self.thread = threading.Thread(target=self._loop, name=f"session-{client.client_id}", daemon=True)
         self.thread.start()
@@ -122,3 +126,13 @@ class Session:
         self.engine.cancel_workers()
 
 
+def _weakly(method):
+    """``method`` (a bound method) called while its object lives, and nothing after."""
+    ref = weakref.WeakMethod(method)
+
+    def call(*args) -> None:
+        bound = ref()
+        if bound is not None:
+            bound(*args)
+
+    return call

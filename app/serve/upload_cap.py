@@ -32,13 +32,16 @@ def cap_streamed_uploads(gui, refused, max_bytes: int = MAX_UPLOAD_BYTES) -> Non
     received: dict[str, int] = {}  # transfer -> bytes so far, for the transfers that were let start
 
     def wrap(cls, check):
-        inner = list(handlers.get(cls, []))
+        # capped again (class mode's explore and follow build a new session on the same tab), the new cap
+        # replaces the old one: wrapped around it, the old cap and the session it tells would live as long as the tab
+        inner = [cb for current in handlers.get(cls, []) for cb in getattr(current, "capped", [current])]
 
         def handler(client_id, message):
             if check(message):
                 for cb in inner:
                     cb(client_id, message)
 
+        handler.capped = inner
         handlers[cls] = [handler]
 
     def start(message) -> bool:
