@@ -101,7 +101,11 @@ def test_the_readout_plot_line_and_sphere_target_match_physics():
     view.update(None, plots_now=True)
     target = scene.nodes["body_sphere/end"]
     assert target.visible and scene.nodes["body_sphere/end_label"].visible
-    assert np.allclose(target.position, sphere_view.RADIUS * sphere_view.PATH_LIFT * end.axis, atol=1e-9)
+    # the view's end state is worked out from K now (the engine's), this one from the scenario's K: the minimiser
+    # stops with the part's coordinates at ~3e-8 (fatol 1e-15 E0 on a quadratic minimum), which tilts the axis
+    # by 1.1e-9 to 2e-9 from frame to frame; 1e-9 failed in a full suite, where the end state's thread finished
+    # for an earlier frame
+    assert np.allclose(target.position, sphere_view.RADIUS * sphere_view.PATH_LIFT * end.axis, atol=1e-8)
     assert np.allclose(end.axis, [0.0, 0.0, 1.0], atol=1e-6)
 
 
