@@ -29,9 +29,6 @@ class ClosedTabs:
     def __contains__(self, cid: int) -> bool:
         return cid in self._ids
 
-    def __len__(self) -> int:
-        return len(self._ids)
-
 
 class Collector:
     """One thread that frees closed sessions and hands their memory back to the system.

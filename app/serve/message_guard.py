@@ -35,6 +35,8 @@ from numbers import Real
 import msgspec
 from viser import _messages as msgs
 
+from .handlers import put_in_front
+
 SHOWN_CHARS = 40  # of a refused value, in the note
 
 
@@ -94,30 +96,29 @@ def screen_gui_updates(gui, refused) -> None:
     cls = getattr(msgs, "GuiUpdateMessage", None)
     if handlers is None or inputs is None or cls is None:
         return
-    # screened again (class mode's explore and follow build a new view on the same tab), the new screen replaces
-    # the old one: stacked, each cycle would add a layer the tab's every message passes through
-    inner = [cb for current in handlers.get(cls, []) for cb in getattr(current, "screens", [current])]
 
-    async def screened(client_id, message) -> None:
-        uuid = message.uuid
-        handle = inputs.get(uuid) if isinstance(uuid, str) else None
-        if handle is not None:
-            state = handle._impl
-            why = refusal(state, message.updates)
-            if why is not None:
-                refused(why)
-                if not state.is_button:  # the page shows the value it sent: send it the one that runs
-                    ws.queue_message(cls(uuid, {"value": state.value}))
-                return
-        elif not isinstance(uuid, str) or not isinstance(message.updates, dict):
-            return  # malformed: for no control at all
-        for cb in inner:
-            out = cb(client_id, message)
-            if inspect.isawaitable(out):
-                await out
+    def make(inner):
+        async def screened(client_id, message) -> None:
+            uuid = message.uuid
+            handle = inputs.get(uuid) if isinstance(uuid, str) else None
+            if handle is not None:
+                state = handle._impl
+                why = refusal(state, message.updates)
+                if why is not None:
+                    refused(why)
+                    if not state.is_button:  # the page shows the value it sent: send it the one that runs
+                        ws.queue_message(cls(uuid, {"value": state.value}))
+                    return
+            elif not isinstance(uuid, str) or not isinstance(message.updates, dict):
+                return  # malformed: for no control at all
+            for cb in inner:
+                out = cb(client_id, message)
+                if inspect.isawaitable(out):
+                    await out
 
-    screened.screens = inner
-    handlers[cls] = [screened]
+        return screened
+
+    put_in_front(handlers, cls, make)
 
 
 _checked_types: dict[type, bool] = {}  # message class -> whether msgspec can check its fields (client's kinds can)

@@ -7,6 +7,7 @@ from __future__ import annotations
 from viser import _messages as msgs
 
 from ..engine.upload import MAX_UPLOAD_BYTES, display_name
+from .handlers import put_in_front
 
 # the largest websocket message a tab's client may send (bytes). viser's page sends an upload in parts of
 # 512 kB and every other message it sends is small; viser lets a message be 50 MB, which websockets reads whole
@@ -32,17 +33,15 @@ def cap_streamed_uploads(gui, refused, max_bytes: int = MAX_UPLOAD_BYTES) -> Non
     received: dict[str, int] = {}  # transfer -> bytes so far, for the transfers that were let start
 
     def wrap(cls, check):
-        # capped again (class mode's explore and follow build a new session on the same tab), the new cap
-        # replaces the old one: wrapped around it, the old cap and the session it tells would live as long as the tab
-        inner = [cb for current in handlers.get(cls, []) for cb in getattr(current, "capped", [current])]
+        def make(inner):
+            def handler(client_id, message):
+                if check(message):
+                    for cb in inner:
+                        cb(client_id, message)
 
-        def handler(client_id, message):
-            if check(message):
-                for cb in inner:
-                    cb(client_id, message)
+            return handler
 
-        handler.capped = inner
-        handlers[cls] = [handler]
+        put_in_front(handlers, cls, make)
 
     def start(message) -> bool:
         size = int(message.size_bytes)
