@@ -20,6 +20,7 @@ from ..engine.engine import Engine
 from ..engine.frame import non_finite
 from ..panel.panel import Panel
 from ..scene.drawing import Drawing
+from .backlog import Backlog
 from .message_guard import screen_gui_updates
 from .pace import Pace
 from .upload_cap import cap_streamed_uploads
@@ -47,6 +48,7 @@ class Session:
         self.first_frame_after: dict[int, float] = {}  # change seq -> latency (s) of its first frame
         self.frame_ms: deque = deque(maxlen=600)  # (tick, publish) wall ms of recent frames
         self.pace = Pace()  # how often to publish, from what a frame costs and how many tabs there are
+        self.backlog = Backlog(client)  # whether viser still holds the last frame unsent (app.serve.backlog)
         # a server started on a scenario or mesh of its own shows that, not the browser's last scene
         self.panel = Panel(client, self.engine, restore=scenario is None and mesh is None and engine is None,
                            still=engine is None, klass=klass)  # klass: a class's challenge (app.serve.scoreboard)
@@ -93,18 +95,20 @@ class Session:
                 fr = self.engine.tick(dt)
                 ticked = time.perf_counter()
                 plots_now = now >= next_plot
-                if plots_now:
-                    next_plot = now + 1.0 / (CROWD_PLOT_HZ if self.pace.crowded(tabs) else PLOT_HZ)
-                self._publish(fr, plots_now)
-                self.frame_ms.append((1e3 * (ticked - now), 1e3 * (time.perf_counter() - ticked)))
-                self.published += 1
-                self.pace.spent(time.thread_time() - cpu)
-                self.stats["frames"] = self.stats.get("frames", 0) + 1
-                done = time.perf_counter()
-                for seq, t0 in list(self.engine.change_times.items()):
-                    if seq <= fr.applied and seq not in self.first_frame_after:
-                        self.first_frame_after[seq] = done - t0
-                        del self.engine.change_times[seq]
+                if not self.backlog.behind():  # else a frame published now would replace the last one, unsent
+                    if plots_now:
+                        next_plot = now + 1.0 / (CROWD_PLOT_HZ if self.pace.crowded(tabs) else PLOT_HZ)
+                    self._publish(fr, plots_now)
+                    self.backlog.published()
+                    self.frame_ms.append((1e3 * (ticked - now), 1e3 * (time.perf_counter() - ticked)))
+                    self.published += 1
+                    self.pace.spent(time.thread_time() - cpu)
+                    self.stats["frames"] = self.stats.get("frames", 0) + 1
+                    done = time.perf_counter()
+                    for seq, t0 in list(self.engine.change_times.items()):
+                        if seq <= fr.applied and seq not in self.first_frame_after:
+                            self.first_frame_after[seq] = done - t0
+                            del self.engine.change_times[seq]
             except Exception:  # never let one bad frame end the tab's simulation
                 if self.stop.is_set():
                     break
