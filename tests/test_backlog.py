@@ -1,6 +1,7 @@
 """A tab's loop does not publish a frame over one viser has not sent yet (app.serve.backlog): on a real viser
 server with one raw websocket client, the last frame counts as unsent while viser's sender cannot take it (inside
-``client.atomic()``, which holds the sender back) and as sent once the sender has moved past it."""
+``client.atomic()``, which holds the sender back) and as sent once the sender has moved past it. A change the user
+asked for is still shown at once while the sender is behind: its first frame replaces the unsent one."""
 
 from __future__ import annotations
 
@@ -8,10 +9,12 @@ import asyncio
 import threading
 import time
 
+import pytest
 import viser
-from raw_client import CAMERA, encode
+from raw_client import CAMERA, encode, raw_session
 from websockets.asyncio.client import connect
 
+from app.engine import presets
 from app.serve.backlog import Backlog
 
 
@@ -69,3 +72,32 @@ def test_a_client_without_viser_s_sender_is_never_behind():
     backlog = Backlog(Bare())
     backlog.published()
     assert not backlog.behind()
+
+
+@pytest.fixture(scope="module")
+def app():
+    from app.serve.server import App
+
+    a = App(port=0)
+    yield a
+    a.close()
+
+
+def test_while_the_sender_is_behind_only_a_change_s_first_frame_is_published(app):
+    async def run():
+        async with raw_session(app) as (_ws, session):
+            assert await asyncio.to_thread(_until, lambda: session.published >= 3), "the tab never published"
+            session.backlog.behind = lambda: True  # the sender stays behind from here on
+            await asyncio.sleep(0.3)  # a frame being published when the flag changed
+            held = session.published
+            await asyncio.sleep(1.0)  # 20 turns of the loop or more
+            assert session.published == held, "frames were published over an unsent one"
+            seq = session.engine.request("preset", presets.preset_names()[1])
+            shown = await asyncio.to_thread(_until, lambda: seq in session.first_frame_after, 60.0)
+            assert shown, "a preset load was never shown while the sender was behind"
+            after = session.published
+            assert after > held
+            await asyncio.sleep(1.0)
+            assert session.published == after, "frames went on being published after the change was shown"
+
+    asyncio.run(run())

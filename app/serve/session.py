@@ -95,7 +95,10 @@ class Session:
                 fr = self.engine.tick(dt)
                 ticked = time.perf_counter()
                 plots_now = now >= next_plot
-                if not self.backlog.behind():  # else a frame published now would replace the last one, unsent
+                # while viser still holds the last frame unsent, a new one would only replace it; but the first
+                # frame after a change goes out at once, so a change is never left unshown behind a slow sender
+                changed = any(seq <= fr.applied for seq in list(self.engine.change_times))
+                if changed or not self.backlog.behind():
                     if plots_now:
                         next_plot = now + 1.0 / (CROWD_PLOT_HZ if self.pace.crowded(tabs) else PLOT_HZ)
                     self._publish(fr, plots_now)
