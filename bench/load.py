@@ -204,7 +204,8 @@ def serve_and_watch(clients: int, seconds: float, *, warmup: float, reconnect_ev
                     time.sleep(0.25)
                 session.engine.request("preset", names[0])
                 visited = True
-            if now >= next_churn and app.sessions:
+            # none in the clients' last churn interval: a load asked for as the tab leaves has no frame to show it
+            if now >= next_churn and app.sessions and now <= seconds - churn_every:
                 session = next(iter(app.sessions.values()))
                 churned += 1
                 churns.append((weakref.ref(session), session.engine.request("preset", names[churned % len(names)])))
