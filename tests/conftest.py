@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import functools
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -33,3 +37,24 @@ def state_matrix(tr: physics.Trajectory) -> np.ndarray:
 @pytest.fixture
 def full_model():
     return physics.get_model("moving_mass", "full")
+
+
+# The README's test command runs the suite on two pytest-xdist workers. The tests that serve the explorer, drive
+# chromium or talk to a server through a websocket run one after another, on one worker (the "live" group), so
+# two browsers or two servers never share the machine's cores with each other; the physics tests run beside them
+# on the other worker. A test module is live when its source starts the server (App, ViserServer, ``python -m
+# app``, tests/explorer_process.py), a raw websocket client (tests/raw_client.py) or chromium.
+LIVE = re.compile(r"\bApp\(|ViserServer|chromium|explorer_process|raw_client|raw_session|serve_and_watch|"
+                  r"explorer_startup|\"-m\", \"app\"|python -m app|\"bench\", \"(?:load|soak)\"|\"(?:load|soak)\"")
+
+
+@functools.cache
+def _live(path: Path) -> bool:
+    return bool(LIVE.search(path.read_text(encoding="utf-8")))
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist's own hook reads the groups
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if item.get_closest_marker("browser") is not None or _live(Path(item.path)):
+            item.add_marker(pytest.mark.xdist_group("live"))
