@@ -11,9 +11,12 @@ import math
 import physics
 
 from . import challenge, controls, edits, presets
+from . import mesh as meshes
 from .buffers import RECENT, VIEWS, WHOLE_RUN
 from .clock import FRAME_HZ
 from .compare import set_compare, undo_compare
+from .mesh import asset_names
+from .upload import display_name, parse_upload
 from .workers import OVERLAYS
 
 
@@ -146,8 +149,6 @@ def _number_sent(value) -> float | None:
 
 
 def _preset(eng, value) -> None:
-    from .mesh import asset_names
-
     kept = eng.mesh.name if eng.mesh is not None and eng.mesh.name in asset_names() else None
     try:
         sc = presets.load_preset(value)
@@ -255,8 +256,6 @@ def _mesh(eng, value) -> None:
 def _upload(eng, value) -> None:
     """(file name, bytes) from the browser: through the parser, size-capped. What came of it is said beside the
     upload button (``eng.upload_note``), not at the top of the panel: loaded, or refused with physics's reason."""
-    from .upload import display_name, parse_upload
-
     name, content = value
     mesh = eng.mesh
     try:
@@ -283,8 +282,6 @@ def _use_mesh(eng, name: str, label: str | None = None) -> None:
     """Draw the body as a mesh from assets/meshes, or as the uniform shape of its inertia again
     ("inertia shape"). The mesh, a uniform solid of mass M scaled to keep A + B + C, gives A, B, C.
     ``label``: the scene's name (default "mesh NAME")."""
-    from . import mesh as meshes
-
     if name in (None, "", meshes.INERTIA_SHAPE):
         eng.mesh = None
         eng.shape = eng._shape(eng.scenario)

@@ -33,6 +33,7 @@ from ..scene import camera
 from ..scene.drawing import Drawing
 from ..scene.legend import LegendView
 from .message_guard import screen_gui_updates
+from .upload_cap import cap_streamed_uploads
 
 FLAGS = ("scene_changed", "sliders_changed", "plots_changed")
 # The class drawing's root is /sclass/all (a tab's own is /s<client id>: app.scene.drawing). Drawing names its light,
@@ -250,8 +251,6 @@ class LecturerView:
 
     def __init__(self, client: viser.ClientHandle, engine: Engine, shared: Shared, drawing: ClassDrawing,
                  klass=None):
-        from .upload_cap import cap_streamed_uploads
-
         self.client = client
         self.view = EngineView(engine, shared)
         self.drawing = drawing

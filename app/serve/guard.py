@@ -18,6 +18,9 @@ import http
 import logging
 import threading
 
+from .message_guard import install_frame_check
+from .upload_cap import MAX_MESSAGE_BYTES
+
 LOOPBACK_NAMES = ("127.0.0.1", "localhost", "[::1]", "::1")
 EVERY_INTERFACE = ("0.0.0.0", "::", "[::]")
 
@@ -109,9 +112,6 @@ def install() -> None:
         import websockets.asyncio.server as ws_server
         from websockets.datastructures import Headers
         from websockets.http11 import Response
-
-        from .message_guard import install_frame_check
-        from .upload_cap import MAX_MESSAGE_BYTES
 
         original = ws_server.serve
 

@@ -14,6 +14,7 @@ from pathlib import Path
 import physics
 
 from .address import shown_host
+from .server import App
 
 DEFAULT_HEIGHT = 700  # px: the control panel and the 3-D view side by side
 
@@ -70,8 +71,6 @@ def show(scenario: physics.Scenario | str | Path | None = None, *, height: int =
                         "path or None (the default scene)")
     if scenario is not None:
         physics.LiveRun(scenario)  # a scenario that cannot run is refused here, not in the page
-    from .server import App
-
     explorer_app = App(host=host, port=port, scenario=scenario)
     explorer = Explorer(explorer_app, f"http://{shown_host(host)}:{explorer_app.port}")
     if display:

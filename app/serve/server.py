@@ -16,8 +16,10 @@ import physics
 
 from .address import listening_port
 from .capacity import MAX_TABS, full_note
+from .classroom import ClassRoom
 from .closing import COLLECTOR, ClosedTabs
-from .guard import refuse_share_tunnel
+from .guard import configure, refuse_share_tunnel
+from .page_scripts import install as install_page_scripts
 from .session import Session
 
 __all__ = ["App", "Session", "warm_up"]
@@ -37,11 +39,7 @@ class App:
         warnings.filterwarnings("ignore", message="Queued a .* on a closed connection")
         if server is None:
             port = listening_port(host, port, dashes="")  # AddressError here, where viser would wait for ever
-            from .guard import configure
-
             configure(host)  # before the server starts: same-origin browsers and this host's name only
-            from .page_scripts import install as install_page_scripts
-
             install_page_scripts()
         self.server = server or viser.ViserServer(host=host, port=port, label="Quasirigid")
         refuse_share_tunnel(self.server)
@@ -64,8 +62,6 @@ class App:
         self.closed_frames: deque[tuple[int, int]] = deque(maxlen=1000)
         self.classroom = None
         if class_mode:
-            from .classroom import ClassRoom
-
             self.classroom = ClassRoom(self.server, scenario, mesh, self.stats)
         self.server.on_client_connect(self._connect)
         self.server.on_client_disconnect(self._disconnect)
