@@ -45,7 +45,7 @@ def full_model():
 # on the other worker. A test module is live when its source starts the server (App, ViserServer, ``python -m
 # app``, tests/explorer_process.py), a raw websocket client (tests/raw_client.py) or chromium.
 LIVE = re.compile(r"\bApp\(|ViserServer|chromium|explorer_process|raw_client|raw_session|serve_and_watch|"
-                  r"explorer_startup|\"-m\", \"app\"|python -m app|\"bench\", \"(?:load|soak)\"|\"(?:load|soak)\"")
+                  r"explorer_startup|\"-m\", \"app\"|python -m app|\"(?:load|soak)\"")
 
 
 @functools.cache

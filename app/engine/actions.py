@@ -15,7 +15,6 @@ from . import mesh as meshes
 from .buffers import RECENT, VIEWS, WHOLE_RUN
 from .clock import FRAME_HZ
 from .compare import set_compare, undo_compare
-from .mesh import asset_names
 from .upload import display_name, parse_upload
 from .workers import OVERLAYS
 
@@ -149,7 +148,7 @@ def _number_sent(value) -> float | None:
 
 
 def _preset(eng, value) -> None:
-    kept = eng.mesh.name if eng.mesh is not None and eng.mesh.name in asset_names() else None
+    kept = eng.mesh.name if eng.mesh is not None and eng.mesh.name in meshes.asset_names() else None
     try:
         sc = presets.load_preset(value)
     except (KeyError, TypeError):  # not a preset's name (TypeError: a list from a raw client is unhashable)
