@@ -12,7 +12,14 @@ pytest.importorskip("plotly")
 from fake_gui import FakeGui, in_a_row  # noqa: E402
 
 from app.engine.compare import SLIDERS, parse  # noqa: E402
+from app.engine.controls import BY_KEY  # noqa: E402
 from app.studies.design_panel import BESIDE_SCENE, MAX_RUNS, NONE, DesignPanel  # noqa: E402
+
+
+def named(key: str) -> str:
+    """The text a parameter dropdown offers for the slider ``key`` (its label and unit, as the slider reads)."""
+    return BY_KEY[key].text
+
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -48,11 +55,11 @@ def _panel():
 def test_a_design_from_the_panel_is_shown_taken_and_compared_beside_the_papers_tuning():
     panel, loaded, compared = _panel()
     (key1, lo1, hi1), (key2, lo2, hi2), (key3, _, _) = panel.slots
-    key1.value = "pendulum.k"
+    key1.value = named("pendulum.k")
     key1.fire()
     k = physics.derived(_scene())["k"]
     assert (lo1.value, hi1.value) == (float(f"{k / 2:.4g}"), float(f"{2 * k:.4g}"))  # the sweep's default range
-    key2.value = "pendulum.c_d"
+    key2.value = named("pendulum.c_d")
     key2.fire()
     assert key3.value == NONE
     panel.runs.value = 60
@@ -92,7 +99,7 @@ def test_a_design_from_the_panel_is_shown_taken_and_compared_beside_the_papers_t
 def test_bad_input_is_said_in_the_panel():
     panel, _, _ = _panel()
     (key1, _, _), (key2, _, _), _ = panel.slots
-    key1.value = key2.value = "pendulum.k"
+    key1.value = key2.value = named("pendulum.k")
     panel.run_btn.fire()
     assert panel.thread is None and "chosen twice" in panel.status.content
     key2.value = NONE
@@ -115,7 +122,7 @@ def test_the_result_goes_stale_when_the_scene_changes():
     sc = _scene()
     scenes = [sc]
     panel = DesignPanel(FakeGui(), lambda: scenes[-1], lambda s: None, executor="serial")
-    panel.slots[0][0].value = "pendulum.c_d"
+    panel.slots[0][0].value = named("pendulum.c_d")
     panel.slots[0][0].fire()
     panel.run_btn.fire()
     panel.thread.join(timeout=120)
@@ -135,7 +142,7 @@ def test_stop_during_the_first_run_says_there_is_nothing_to_show():
     sc = _scene().with_values(**{"run.t_end": 4e5})
     panel = DesignPanel(FakeGui(), lambda: sc, lambda _: None, executor="serial")
     key1 = panel.slots[0][0]
-    key1.value = "pendulum.k"
+    key1.value = named("pendulum.k")
     key1.fire()
     panel.run_btn.fire()
     assert panel.thread is not None and not panel.stop_btn.disabled
@@ -156,7 +163,7 @@ def test_the_status_line_sits_under_run_and_stop():
     panel = DesignPanel(gui, lambda: sc, lambda s: None, executor="serial")
     assert in_a_row(gui, panel.run_btn, panel.stop_btn, panel.bar, panel.status)
     (key1, _, _), (key2, _, _), _ = panel.slots
-    key1.value = key2.value = "pendulum.k"
+    key1.value = key2.value = named("pendulum.k")
     panel.run_btn.fire()
     assert "chosen twice" in panel.status.content
     assert panel.result_md.content == panel.status.content  # the window, below the fold's line, says it too

@@ -13,8 +13,15 @@ import physics
 pytest.importorskip("plotly")
 from fake_gui import FakeGui, Handle, in_a_row  # noqa: E402
 
-from app.studies import sweep_panel  # noqa: E402
+from app.engine.controls import BY_KEY  # noqa: E402
+from app.studies import slider_choice, sweep_panel  # noqa: E402
 from app.studies.sweep_panel import MAX_POINTS, NONE, SweepPanel  # noqa: E402
+
+
+def named(key: str) -> str:
+    """The text a parameter dropdown offers for the slider ``key`` (its label and unit, as the slider reads)."""
+    return BY_KEY[key].text
+
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -26,13 +33,13 @@ def _scene() -> physics.Scenario:
 
 def test_panel_offers_the_systems_sliders_only():
     sc = _scene()
-    keys = sweep_panel.sweepable(sc)
+    keys = slider_choice.sweepable(sc)
     assert "pendulum.k" in keys and "pendulum.c_d" in keys and "mass.chi" not in keys
     plane = physics.Scenario.load(ROOT / "assets" / "scenarios" / "plane_pendulums_three.toml")
-    assert "pendulum.h" not in sweep_panel.sweepable(plane)  # the spherical pendulum's pivot only
+    assert "pendulum.h" not in slider_choice.sweepable(plane)  # the spherical pendulum's pivot only
     mass = physics.Scenario.load(ROOT / "assets" / "scenarios" / "oblate_settling.toml")
-    assert {"mass.chi", "medium.lambda", "control.b"} <= set(sweep_panel.sweepable(mass))
-    assert "cavity.nu" not in sweep_panel.sweepable(mass)  # no cavity in that file
+    assert {"mass.chi", "medium.lambda", "control.b"} <= set(slider_choice.sweepable(mass))
+    assert "cavity.nu" not in slider_choice.sweepable(mass)  # no cavity in that file
 
 
 def test_panel_runs_a_heat_map_and_loads_the_best_point():
@@ -41,15 +48,15 @@ def test_panel_runs_a_heat_map_and_loads_the_best_point():
     gui = FakeGui()
     panel = SweepPanel(gui, lambda: sc, loaded.append, executor="serial")
     assert {h.kind for h in gui.handles} >= {"dropdown", "number", "button", "progress", "plotly"}
-    panel.key1.value = "pendulum.k"
+    panel.key1.value = named("pendulum.k")
     panel.key1.fire()  # k = "resonant" in the file: the range is around the stiffness it tunes to
     k = physics.derived(sc)["k"]
     assert (panel.lo1.value, panel.hi1.value) == (float(f"{k / 2:.4g}"), float(f"{2 * k:.4g}"))
-    panel.key1.value = "pendulum.c_d"
+    panel.key1.value = named("pendulum.c_d")
     panel.key1.fire()  # the range follows the parameter: around the scene's c_d = 8
     assert (panel.lo1.value, panel.hi1.value) == (4.0, 16.0)
     panel.n1.value = 3
-    panel.key2.value = "pendulum.m"
+    panel.key2.value = named("pendulum.m")
     panel.key2.fire()
     panel.n2.value = 2
     panel.metric.value = "decay_time"
@@ -74,8 +81,8 @@ def test_panel_reports_errors_instead_of_raising():
     sc = _scene()
     gui = FakeGui()
     panel = SweepPanel(gui, lambda: sc, lambda s: None, executor="serial")
-    panel.key1.value = "pendulum.k"
-    panel.key2.value = "pendulum.k"
+    panel.key1.value = named("pendulum.k")
+    panel.key2.value = named("pendulum.k")
     panel.run_btn.fire()  # the same slider twice
     assert panel.thread is None and "Cannot start" in panel.status.content
     panel.key2.value = NONE
@@ -97,7 +104,7 @@ def test_panel_one_parameter_draws_a_curve_on_worker_processes():
     sc = _scene()
     gui = FakeGui()
     panel = SweepPanel(gui, lambda: sc, lambda s: None, workers=1)  # the default: local worker processes
-    panel.key1.value = "pendulum.c_d"
+    panel.key1.value = named("pendulum.c_d")
     panel.key1.fire()
     panel.n1.value = 2
     panel.start().join(timeout=120)
@@ -132,10 +139,10 @@ def test_clicking_a_cell_of_the_scene_board_loads_its_point():
     scene = FakeScene()
     panel = SweepPanel(FakeGui(), lambda: sc, loaded.append, executor="serial", scene=scene)
     panel.board_box.value = True  # the board is opt-in: the result's own window holds the heat map
-    panel.key1.value = "pendulum.c_d"
+    panel.key1.value = named("pendulum.c_d")
     panel.key1.fire()
     panel.n1.value = 3
-    panel.key2.value = "pendulum.m"
+    panel.key2.value = named("pendulum.m")
     panel.key2.fire()
     panel.n2.value = 2
     panel.run_btn.fire()
@@ -181,7 +188,7 @@ def test_a_stopped_sweep_says_its_points_were_not_run_rather_than_failed():
     counts the points the stop left as not run; it said "4 failed" and listed them as failures."""
     sc = _scene().with_values(**{"run.t_end": 4e5, "run.samples": 201})
     panel = SweepPanel(FakeGui(), lambda: sc, lambda _: None, executor="serial")
-    panel.key1.value = "pendulum.k"
+    panel.key1.value = named("pendulum.k")
     panel.key1.fire()
     panel.n1.value = 3
     panel.run_btn.fire()
@@ -215,7 +222,7 @@ def test_the_status_line_sits_under_run_and_stop():
     gui = FakeGui()
     panel = SweepPanel(gui, lambda: sc, lambda s: None, executor="serial")
     assert in_a_row(gui, panel.run_btn, panel.stop_btn, panel.bar, panel.status)
-    panel.key1.value = panel.key2.value = "pendulum.k"
+    panel.key1.value = panel.key2.value = named("pendulum.k")
     panel.run_btn.fire()
     assert "Cannot start" in panel.status.content
     # at 1400x900 that line sits below the panel's fold: the window, with no result yet, says it too
@@ -226,7 +233,7 @@ def test_the_status_line_sits_under_run_and_stop():
     panel.thread.join(timeout=60)
     summary = panel.result_md.content
     assert panel.table is not None and "Running" not in summary
-    panel.key2.value = "pendulum.k"
+    panel.key2.value = named("pendulum.k")
     panel.run_btn.fire()  # a window with a result keeps it; the refusal is in the status line
     assert "Cannot start" in panel.status.content and panel.result_md.content == summary
 
@@ -237,7 +244,7 @@ def test_an_end_no_scene_can_take_is_refused_before_the_sweep_starts():
     sc = physics.Scenario.load(ROOT / "assets" / "scenarios" / "oblate_settling.toml").with_values(
         **{"run.t_end": 2.0})
     panel = SweepPanel(FakeGui(), lambda: sc, lambda s: None, executor="serial")
-    panel.key1.value = "mass.m"
+    panel.key1.value = named("mass.m")
     panel.key1.fire()
     panel.lo1.value = 5.0
     panel.run_btn.fire()

@@ -15,9 +15,16 @@ pytest.importorskip("plotly")
 from fake_gui import FakeGui  # noqa: E402
 
 from app.engine import presets  # noqa: E402
+from app.engine.controls import BY_KEY  # noqa: E402
 from app.studies import sweep_ranges, sweep_view
+from app.studies.slider_choice import sweepable  # noqa: E402
 from app.studies.speed_panel import SpeedPanel  # noqa: E402
-from app.studies.sweep_panel import SweepPanel, sweepable  # noqa: E402
+from app.studies.sweep_panel import SweepPanel  # noqa: E402
+
+
+def named(key: str) -> str:
+    """The text a parameter dropdown offers for the slider ``key`` (its label and unit, as the slider reads)."""
+    return BY_KEY[key].text
 
 
 def _table(keys, axes, values, metric="decay_time", errors=None, base=None):
@@ -40,7 +47,7 @@ def _table(keys, axes, values, metric="decay_time", errors=None, base=None):
 def test_typed_ranges_keep_their_precision_and_the_run_covers_them():
     sc = physics.default_scenario()
     panel = SweepPanel(FakeGui(), lambda: sc, lambda s: None, executor="serial")
-    panel.key1.value = "mass.m"
+    panel.key1.value = named("mass.m")
     panel.key1.fire()
     assert panel.lo1.precision >= sweep_ranges.BOX_DIGITS  # the browser's box keeps the typed decimals
     panel.lo1.value, panel.hi1.value, panel.n1.value = 0.05, 0.25, 5
@@ -81,7 +88,7 @@ def test_a_failed_point_says_which_key_value_and_range():
     sc = physics.default_scenario()
     gui = FakeGui()
     panel = SweepPanel(gui, lambda: sc, lambda s: None, executor="serial")
-    panel.key1.value = "mass.m"
+    panel.key1.value = named("mass.m")
     panel.lo1.value, panel.hi1.value, panel.n1.value = 0.3, 0.45, 2  # 0.45: m rho^2/(1 - m/M) exceeds A
     panel.metric.value = "theta_end"
     sc = sc.with_values(**{"run.t_end": 2.0, "run.samples": 21})
@@ -290,7 +297,7 @@ def test_board_cells_colour_growth_red_and_the_fastest_decay_darkest():
 def test_a_scene_change_during_the_sweep_marks_the_result_stale_on_arrival():
     scenes = [physics.default_scenario().with_values(**{"run.t_end": 2.0, "run.samples": 21})]
     panel = SweepPanel(FakeGui(), lambda: scenes[-1], lambda s: None, executor="serial")
-    panel.key1.value = "mass.chi"
+    panel.key1.value = named("mass.chi")
     panel.lo1.value, panel.hi1.value, panel.n1.value = 2.0, 4.0, 2
     sc, vary, metric = panel.request()
     scenes.append(physics.point_scenario(scenes[0], {"mass.m": 0.1}))  # moved while the sweep ran

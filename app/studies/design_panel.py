@@ -20,8 +20,8 @@ import physics
 from ..engine import controls
 from ..engine.compare import SLIDERS
 from . import design_view, results_window
+from .slider_choice import NONE, key_of, offer, options
 from .stale import same_scene
-from .sweep_panel import NONE, sweepable
 from .sweep_ranges import default_range, scenario_key, show_range
 
 SLOTS = 3  # sliders a design varies from the explorer (physics.design takes four)
@@ -71,14 +71,13 @@ class DesignPanel:
         self._running = "decay_time"  # the running design's objective
         sc = get_scenario()
         self.system = sc.system
-        keys = sweepable(sc) or [NONE]
         gui.add_markdown("Pick up to three sliders, their ranges and an objective: the design finds "
                          "the best point within them.")
         self.slots = []
         names = ("parameter", "second parameter", "third parameter")
         for i, name in enumerate(names):
-            options = keys if i == 0 else [NONE, *keys]
-            key = gui.add_dropdown(name, options, initial_value=options[0],
+            offered = options(sc, optional=i > 0)
+            key = gui.add_dropdown(name, offered, initial_value=offered[0],
                                    hint="a slider the design varies" + ("" if i == 0 else " (none: fewer)"))
             suffix = "" if i == 0 else f" ({i + 1}{'nd' if i == 1 else 'rd'})"
             lo = gui.add_number("from" + suffix, 0.0, step=0.01)
@@ -129,10 +128,11 @@ class DesignPanel:
         key, lo, hi = self.slots[i]
         for h in (lo, hi):
             h.visible = key.value != NONE
-        if key.value not in controls.BY_KEY:
+        slider = key_of(key.value, self.system)
+        if slider is None:
             return
         try:
-            a, b = default_range(self.get_scenario(), key.value, 8)
+            a, b = default_range(self.get_scenario(), slider, 8)
         except Exception:  # noqa: BLE001 - a scenario being swapped out: keep the old range
             return
         show_range(lo, hi, a, b)
@@ -141,13 +141,8 @@ class DesignPanel:
         """Rebuild the slider lists for the scene's current system (call after a system change)."""
         sc = self.get_scenario()
         self.system = sc.system
-        keys = sweepable(sc) or [NONE]
         for i, (key, _lo, _hi) in enumerate(self.slots):
-            options = keys if i == 0 else [NONE, *keys]
-            if list(key.options) != options:
-                key.options = options
-            if key.value not in options:
-                key.value = options[0]
+            offer(key, options(sc, optional=i > 0))
         self.scene_changed()
 
     def scene_changed(self) -> None:
@@ -174,14 +169,16 @@ class DesignPanel:
         for key, lo, hi in self.slots:
             if key.value == NONE:
                 continue
-            if key.value not in controls.BY_KEY:
-                raise physics.ScenarioError("parameter", key.value, "is not a slider of the explorer")
-            dotted = scenario_key(key.value, sc.system)
+            slider = key_of(key.value, sc.system)
+            if slider is None:
+                raise physics.ScenarioError("parameter", str(key.value)[:40], "must be one of "
+                                            + ", ".join(options(sc, optional=False)))
+            dotted = scenario_key(slider, sc.system)
             if dotted in vary:
                 raise physics.ScenarioError("parameter", key.value, "is chosen twice: pick different sliders")
             a, b = float(lo.value), float(hi.value)
             if not (math.isfinite(a) and math.isfinite(b) and a < b):  # said before anything starts
-                raise physics.ScenarioError(f"from/to of {controls.BY_KEY[key.value].label}", f"{a:g} .. {b:g}",
+                raise physics.ScenarioError(f"from/to of {controls.BY_KEY[slider].label}", f"{a:g} .. {b:g}",
                                             "must be finite with from < to")
             vary[dotted] = (a, b)
         runs = runs_of(self.runs.value)

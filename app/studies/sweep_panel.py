@@ -20,13 +20,12 @@ from collections.abc import Callable
 
 import physics
 
-from ..engine import controls
 from . import results_window, sweep_view
+from .slider_choice import NONE, key_of, offer, options
 from .stale import same_scene
 from .sweep_board import BOARD_MAX, SweepBoard
 from .sweep_ranges import default_range, scenario_key, show_range
 
-NONE = "(none)"
 NO_POINTS = "(run a sweep first)"
 DEFAULT_POINTS = 8  # per parameter: 8 x 8 = 64 runs is a minute or so for the presets on two cores
 MAX_POINTS = 60  # per parameter, so a misclick cannot queue thousands of runs
@@ -43,12 +42,6 @@ def count_of(value) -> int | None:
     except (TypeError, ValueError, OverflowError):
         return None
     return n if 1 <= n <= MAX_POINTS and n == value and not isinstance(value, bool) else None
-
-
-def sweepable(sc: physics.Scenario) -> list[str]:
-    """The slider keys (controls.PARAMS) of this scenario's system that a sweep can vary in it."""
-    allowed = set(physics.numeric_keys(sc))
-    return [p.key for p in controls.PARAMS if sc.system in p.systems and scenario_key(p.key, sc.system) in allowed]
 
 
 class SweepPanel:
@@ -70,15 +63,15 @@ class SweepPanel:
         self._points: dict[str, int] = {}
         sc = get_scenario()
         self.system = sc.system
-        keys = sweepable(sc) or [NONE]
+        first, second = options(sc, optional=False), options(sc, optional=True)
         gui.add_markdown("Vary one or two parameters; each point is a full run.")
-        self.key1 = gui.add_dropdown("parameter", keys, initial_value=keys[0],
+        self.key1 = gui.add_dropdown("parameter", first, initial_value=first[0],
                                      hint="the slider to vary (along the curve, or down the heat map)")
         self.lo1 = gui.add_number("from", 0.0, step=0.01)
         self.hi1 = gui.add_number("to", 1.0, step=0.01)
         self.n1 = gui.add_number("points", DEFAULT_POINTS, min=1, max=MAX_POINTS, step=1)
         self.log1 = gui.add_checkbox("log spacing", False, hint="geometric spacing (both ends must be > 0)")
-        self.key2 = gui.add_dropdown("second parameter", [NONE, *keys], initial_value=NONE,
+        self.key2 = gui.add_dropdown("second parameter", second, initial_value=NONE,
                                      hint="a second slider makes a heat map (across)")
         self.lo2 = gui.add_number("from (2nd)", 0.0, step=0.01)
         self.hi2 = gui.add_number("to (2nd)", 1.0, step=0.01)
@@ -133,13 +126,13 @@ class SweepPanel:
             self._counts[which] = n
 
     def _reset_range(self, which: int) -> None:
-        key = (self.key1 if which == 1 else self.key2).value
+        text = (self.key1 if which == 1 else self.key2).value
         lo, hi, log, n = ((self.lo1, self.hi1, self.log1, self.n1) if which == 1 else
                           (self.lo2, self.hi2, self.log2, self.n2))
-        visible = key != NONE
         for h in ((lo, hi, log, n) if which == 2 else ()):
-            h.visible = visible
-        if key not in controls.BY_KEY:
+            h.visible = text != NONE
+        key = key_of(text, self.system)
+        if key is None:
             return
         try:
             a, b = default_range(self.get_scenario(), key, count_of(n.value) or self._counts[which])
@@ -151,14 +144,8 @@ class SweepPanel:
         """Rebuild the parameter lists for the scene's current system (call after a system change)."""
         sc = self.get_scenario()
         self.system = sc.system
-        keys = sweepable(sc) or [NONE]
-        if list(self.key1.options) != keys:
-            self.key1.options = keys
-            self.key2.options = [NONE, *keys]
-        if self.key1.value not in keys:
-            self.key1.value = keys[0]
-        if self.key2.value not in self.key2.options:
-            self.key2.value = NONE
+        offer(self.key1, options(sc, optional=False))
+        offer(self.key2, options(sc, optional=True))
         self.scene_changed()
 
     def scene_changed(self) -> None:
@@ -189,18 +176,20 @@ class SweepPanel:
             raise physics.ScenarioError("parameter", self.key1.value, f"the scene is now a {sc.system}: the lists "
                                         "were updated; pick again")
         vary, ends = {}, {}
-        for key, lo, hi, n, log in ((self.key1.value, self.lo1, self.hi1, self.n1, self.log1),
-                                    (self.key2.value, self.lo2, self.hi2, self.n2, self.log2)):
-            if key == NONE:
+        for text, lo, hi, n, log in ((self.key1.value, self.lo1, self.hi1, self.n1, self.log1),
+                                     (self.key2.value, self.lo2, self.hi2, self.n2, self.log2)):
+            if text == NONE:
                 continue
-            if key not in controls.BY_KEY:
-                raise physics.ScenarioError("parameter", key, "is not a slider of the explorer")
+            key = key_of(text, sc.system)
+            if key is None:
+                raise physics.ScenarioError("parameter", str(text)[:40], "must be one of "
+                                            + ", ".join(options(sc, optional=False)))
             count = count_of(n.value)
             if count is None:
-                raise physics.ScenarioError(f"points of {key}", n.value, f"must be from 1 to {MAX_POINTS}")
+                raise physics.ScenarioError(f"points of {text}", n.value, f"must be from 1 to {MAX_POINTS}")
             a, b = float(lo.value), float(hi.value)
             spec = ("log", a, b, count) if log.value else (a, b, count)
-            values, _ = physics.axis_values(spec, key)  # a bad range is reported before anything starts
+            values, _ = physics.axis_values(spec, text)  # a bad range is reported before anything starts
             vary[scenario_key(key, sc.system)] = spec
             ends[scenario_key(key, sc.system)] = (values[0], values[-1])  # one point: "to" is not run
         if len(vary) < (2 if self.key2.value != NONE else 1):
