@@ -40,6 +40,9 @@ if TYPE_CHECKING:
     from physics.scenario.scenario import Scenario
 
 FIDELITY_ORDER = ("full", "averaged", "closed")  # dearest first; "auto" chooses among them
+# The cheaper models by wall time, cheapest first, unless a system says otherwise (System.cheapest_first): a closed
+# form evaluates where the averaged model integrates
+CHEAPEST_FIRST = ("closed", "averaged")
 SHARED_TABLES = ("body", "initial", "run")  # every scenario's tables (physics/scenario/params.py), no system's own
 
 
@@ -252,6 +255,8 @@ class System:
     saying why its scene has no fixed end state (no dissipation); None: the system states no end state.
     ``tunings(sc)``: the papers' tuning rules for its part, name -> {dotted key: value} (what a design is
     compared with); a rule the scenario cannot take raises ScenarioError.
+    ``cheapest_first(sc)``: its cheaper models by wall time on ``sc``, cheapest first (CHEAPEST_FIRST unless a
+    closed form costs more there), the order ``auto`` tries them in, by its own rule and under the step budget.
     ``quantities``: (unit, meaning) of ``derived``'s keys for ``physics info``; ``quantity(name)`` the same for
     keys built at run time (one per pendulum), or None.
     ``figure(sc, state, view)`` the part's picture as plain primitives in body coordinates
@@ -284,6 +289,7 @@ class System:
     check_run: Callable[[Any], None] | None = None
     braking_time: Callable[[float, float, float], float] | None = None
     tunings: Callable[[Any], dict[str, dict[str, float]]] | None = None
+    cheapest_first: Callable[[Any], tuple[str, ...]] = lambda sc: CHEAPEST_FIRST
     torque_direction: Callable[[Any, Any, Any], Any] | None = None
     end_locked: Callable[[Any], Any] | None = None
     quantities: dict[str, tuple[str, str]] = field(default_factory=dict)

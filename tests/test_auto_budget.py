@@ -129,3 +129,19 @@ def test_while_the_kernels_build_there_is_no_probe_and_nothing_is_kept(monkeypat
     assert choose(sc).fidelity == "full"
     monkeypatch.setattr(cost, "compiled_ready", lambda: True)
     assert estimated_steps(sc, "full") > MAX_STEPS  # the None was not kept
+
+
+def test_over_budget_auto_tries_the_cheaper_models_in_the_system_s_own_order(monkeypatch):
+    """Where the pick would exceed the budget, the cheapest model within the accuracy runs, cheapest by the system's
+    ``cheapest_first``: with quadratic friction the averaged model before the closed form (which evaluates its
+    quadrature from t = 0 at every point), as auto's own rule orders them. The pick is forced to the full model
+    (8e7 steps here) so that both cheaper models, whose shared estimate meets the default accuracy, are in play."""
+    sc = _load("quadratic_friction.toml")
+    system = physics.get_system(sc.system)
+    assert system.cheapest_first(sc) == ("averaged", "closed")
+    assert system.cheapest_first(_load("oblate_settling.toml")) == ("closed", "averaged")
+    monkeypatch.setattr(system, "choose", lambda _: ("full", "forced for this test"))
+    choice = choose(sc)
+    assert choice.steps["full"] > MAX_STEPS and choice.steps["averaged"] <= MAX_STEPS
+    assert choice.fidelity == "averaged", choice.reason
+    assert "the cheapest model that fits" in choice.reason

@@ -42,9 +42,10 @@ class Choice:
 
 def choose(sc) -> Choice:
     """The system's pick (``System.pick``), unless its estimated steps exceed MAX_STEPS. Then, among the other
-    models available for ``sc``: the cheapest whose error estimate meets the accuracy and that fits the budget,
-    else the most accurate (dearest first, FIDELITY_ORDER) that fits; the reason names its error estimate (or
-    none) and the full model's steps. When no model fits, the pick stands and the run says why it cannot."""
+    models available for ``sc``: the cheapest (``System.cheapest_first``) whose error estimate meets the accuracy
+    and that fits the budget, else the most accurate (dearest first, FIDELITY_ORDER) that fits; the reason names
+    its error estimate (or none) and the full model's steps. When no model fits, the pick stands and the run says
+    why it cannot."""
     system = get_system(sc.system)
     fid, reason = system.pick(sc)
     steps = {fid: estimated_steps(sc, fid)}
@@ -61,7 +62,7 @@ def choose(sc) -> Choice:
         steps[f] = estimated_steps(sc, f)
         if _fits(steps[f], unknown=False):
             fitting.append(f)
-    for f in CHEAPEST_FIRST:
+    for f in system.cheapest_first(sc):
         est = system.error_bounds(sc, f) if f in fitting else None
         if est is not None and est <= tol:
             return Choice(f, f"{over}: {f} runs, the cheapest model that fits with its error estimate "
@@ -137,21 +138,19 @@ def resolve(sc, fidelity: str | None = None, *, warn: bool = False) -> Resolved:
 # validity limits promised before issue 15, and where auto's wall time over the fidelity studies stays within
 # 1.7x of an oracle's (at 1e-2 it is 2.1x-3.5x: bench/results/fidelity.meta.json, docs/models.md A.5)
 DEFAULT_ACCURACY = 1e-3
-CHEAPEST_FIRST = ("closed", "averaged")
 
 
-def cheapest_within(sc, failed, order: tuple[str, ...] = CHEAPEST_FIRST) -> tuple[str, str]:
-    """``auto``'s pick from error estimates: the cheapest available model whose estimate (the system's
-    ``error_bounds``) is at most ``run.accuracy`` (DEFAULT_ACCURACY when unset), else the full model. ``failed``:
-    the structural conditions that do not hold (their estimates do not cover them), which rule out every
-    cheaper model. ``order``: the cheaper models, cheapest first, where a system knows better than
-    CHEAPEST_FIRST."""
+def cheapest_within(sc, failed) -> tuple[str, str]:
+    """``auto``'s pick from error estimates: the cheapest available model (the system's ``cheapest_first``) whose
+    estimate (its ``error_bounds``) is at most ``run.accuracy`` (DEFAULT_ACCURACY when unset), else the full model.
+    ``failed``: the structural conditions that do not hold (their estimates do not cover them), which rule out
+    every cheaper model."""
     system = get_system(sc.system)
     tol, asked = _accuracy(sc)
     if failed:
         return "full", "conditions fail: " + "; ".join(map(str, failed))
     worst = None
-    for fid in order:
+    for fid in system.cheapest_first(sc):
         if fid not in system.models or not system.available(sc, fid)[0]:
             continue
         est = system.error_bounds(sc, fid)

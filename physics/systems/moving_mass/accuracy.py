@@ -36,9 +36,9 @@ import numpy as np
 
 from physics.core.blame import NUMERICAL
 from physics.core.errors import ScenarioError
-from physics.registry import Condition, get_model
+from physics.registry import CHEAPEST_FIRST, Condition, get_model
 from physics.scenario.scenario import Scenario
-from physics.systems.choice import CHEAPEST_FIRST, cheapest_within
+from physics.systems.choice import cheapest_within
 from physics.systems.moving_mass import forced_response
 from physics.systems.moving_mass.coefficients import coefficients
 from physics.systems.moving_mass.validity import FAST_SPRING, structural_conditions, structural_failures
@@ -230,8 +230,13 @@ def choose(sc: Scenario) -> tuple[str, str]:
     """``auto``'s pick for a moving-mass scenario: the cheapest model whose error estimate meets ``run.accuracy``
     (the default accuracy when unset), among those the structural conditions (validity.py) and the estimate's
     calibrated domain leave."""
-    return cheapest_within(sc, [c for c in auto_conditions(sc) if not c.holds],
-                           QUADRATIC_ORDER if sc.mass is not None and sc.mass.lam_q > 0 else CHEAPEST_FIRST)
+    return cheapest_within(sc, [c for c in auto_conditions(sc) if not c.holds])
+
+
+def cheapest_first(sc: Scenario) -> tuple[str, ...]:
+    """The cheaper models by wall time on ``sc``, cheapest first: with quadratic friction the averaged model
+    (QUADRATIC_ORDER), else the closed form."""
+    return QUADRATIC_ORDER if sc.mass is not None and sc.mass.lam_q > 0 else CHEAPEST_FIRST
 
 
 METHOD = ("the full model's theta predicted from the mass's steady forced motion (first order in m, exact in eps; "

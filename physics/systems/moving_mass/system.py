@@ -18,7 +18,7 @@ from physics.registry import Param, System, Table, register_system
 from physics.scenario.initial import initial_G
 from physics.systems.end_state import EndLocked
 from physics.systems.moving_mass import closed_model, models  # noqa: F401  (registers the models)
-from physics.systems.moving_mass.accuracy import METHOD, auto_conditions, averaged_error_bound, choose
+from physics.systems.moving_mass.accuracy import METHOD, auto_conditions, averaged_error_bound, cheapest_first, choose
 from physics.systems.moving_mass.figure import ACTIONS, figure
 from physics.systems.moving_mass.models import quasi_static_displacement
 from physics.systems.moving_mass.params import THRUSTERS, Cavity, Control, Mass, Medium, check_mass_state
@@ -201,7 +201,8 @@ SYSTEM = register_system(System(
             Table("control", Control)),
     example=resources.files("physics").joinpath("data/default.toml").read_text(encoding="utf-8"),
     params=PARAMS, folders=(MASS_FOLDER, FRICTION_FOLDER), default=True,
-    check=check, conditions=auto_conditions, choose=choose, available=available, derived=derived,
+    check=check, conditions=auto_conditions, choose=choose, cheapest_first=cheapest_first, available=available,
+    derived=derived,
     error_bounds=error_bounds, error_method=METHOD, edit=edit, values=values, amplitude=amplitude,
     parts={PART: STATE}, start_part=start_part, check_run=check_carrier, braking_time=braking_time,
     torque_direction=torque_direction,
