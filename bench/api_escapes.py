@@ -12,7 +12,6 @@ each escape's call, value and exception).
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import signal
@@ -21,6 +20,8 @@ import tempfile
 import warnings
 from collections import Counter
 from pathlib import Path
+
+from bench.cli import study_parser
 
 from .machine import machine
 
@@ -142,7 +143,7 @@ def probe(root: Path) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench api-escapes", description=__doc__.split("\n\n")[0])
+    ap = study_parser("api-escapes", __doc__)
     ap.add_argument("--root", type=Path, default=ROOT, help="the tree whose physics is probed (default: this one)")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "api_escapes.json")
     ap.add_argument("--note", default="", help="what was probed (a commit), kept in the file")

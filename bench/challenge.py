@@ -20,7 +20,7 @@ import time
 from datetime import UTC, datetime
 from pathlib import Path
 
-from .cli import ROOT, study_parser
+from .cli import ROOT, bounded, study_parser
 from .machine import machine
 from .runners import log, save_figure
 
@@ -81,16 +81,15 @@ def chart(rows: list[dict], path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     ap = study_parser("challenge", __doc__)
-    ap.add_argument("--starts", type=int, nargs="+", default=[0, 1, 2, 3, 4], help="start numbers (default 0-4)")
-    ap.add_argument("--reactions", type=float, nargs="+", default=[0.05, 0.25, 0.5],
+    ap.add_argument("--starts", type=bounded(int, 0, 99), nargs="+", default=[0, 1, 2, 3, 4],
+                    help="start numbers (default 0-4)")
+    ap.add_argument("--reactions", type=bounded(float, 1e-3, 60.0), nargs="+", default=[0.05, 0.25, 0.5],
                     help="the player's decision intervals, simulated s (default 0.05 0.25 0.5)")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results", help="default bench/results")
     ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img", help="default docs/img")
     args = ap.parse_args(argv)
     from app.engine import challenge  # noqa: PLC0415
 
-    if not all(r > 0 and math.isfinite(r) for r in args.reactions):
-        ap.error(f"--reactions {args.reactions}: each must be a positive number of seconds")
     t0 = time.perf_counter()
     rows = run(challenge.LEVELS, args.starts, args.reactions)
     args.out.mkdir(parents=True, exist_ok=True)

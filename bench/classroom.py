@@ -20,7 +20,6 @@ latencies. The first ``--warmup`` seconds (tabs joining) are not measured.
 
 from __future__ import annotations
 
-import argparse
 import asyncio
 import json
 import os
@@ -30,6 +29,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from bench.cli import bounded, study_parser
 
 from .load import rss_bytes
 from .machine import machine
@@ -49,10 +50,10 @@ def client_main(argv: list[str]) -> int:
 
     from .class_client import Tab
 
-    ap = argparse.ArgumentParser(prog="python -m bench.classroom --client")
+    ap = study_parser("", "", prog="python -m bench.classroom --client")
     ap.add_argument("--client", required=True, help="websocket URL")
-    ap.add_argument("--tabs", type=int, required=True)
-    ap.add_argument("--seconds", type=float, required=True)
+    ap.add_argument("--tabs", type=bounded(int, 1, 500), required=True)
+    ap.add_argument("--seconds", type=bounded(float, 0.0, 86400.0), required=True)
     ap.add_argument("--key", required=True)
     a = ap.parse_args(argv)
     lecturer = Tab({CLASS_KEY: a.key})
@@ -196,17 +197,18 @@ def chart(res: dict, path: Path) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench class", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--tabs", type=int, default=30, help="student tabs following the class (default 30)")
-    ap.add_argument("--minutes", type=float, default=10.0, help="how long they follow (default 10)")
-    ap.add_argument("--warmup", type=float, default=20.0, help="seconds not measured at the start (default 20)")
-    ap.add_argument("--edit-every", type=float, default=5.0, help="seconds between the lecturer's edits (default 5)")
+    ap = study_parser("class", __doc__)
+    ap.add_argument("--tabs", type=bounded(int, 1, 500), default=30,
+                    help="student tabs following the class (default 30)")
+    ap.add_argument("--minutes", type=bounded(float, 0.01, 1440.0), default=10.0,
+                    help="how long they follow (default 10)")
+    ap.add_argument("--warmup", type=bounded(float, 0.0, 3600.0), default=20.0,
+                    help="seconds not measured at the start (default 20)")
+    ap.add_argument("--edit-every", type=bounded(float, 0.1, 3600.0), default=5.0,
+                    help="seconds between the lecturer's edits (default 5)")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "class.json",
                     help="the JSON result (default bench/results/class.json); the chart beside it, .png")
     a = ap.parse_args(argv)
-    for name, value in (("--tabs", a.tabs), ("--minutes", a.minutes), ("--edit-every", a.edit_every)):
-        if not value > 0:
-            ap.error(f"{name} {value!r}: must be more than 0")
     if not 0 <= a.warmup < 60 * a.minutes:
         ap.error(f"--warmup {a.warmup!r}: must be at least 0 and less than the run ({60 * a.minutes:g} s)")
     res = serve_class(a.tabs, 60.0 * a.minutes, warmup=a.warmup, edit_every=a.edit_every)

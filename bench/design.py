@@ -10,7 +10,6 @@ map with the design's path over it, and the best value against runs made.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import math
@@ -22,7 +21,9 @@ from pathlib import Path
 import numpy as np
 
 import physics
+from bench.cli import bounded, study_parser
 from bench.machine import machine
+from physics.scenario.arguments import MAX_WORKERS
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = ROOT / "assets" / "scenarios" / "pendulum_resonant.toml"
@@ -122,14 +123,13 @@ def _chart(table, result, rows, img: Path) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench design", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--n", type=int, default=20, help="grid points per key (default 20: 400 runs)")
-    ap.add_argument("--workers", type=int, default=2, help="local processes for both (default 2)")
+    ap = study_parser("design", __doc__)
+    ap.add_argument("--n", type=bounded(int, 2, 100), default=20, help="grid points per key (default 20: 400 runs)")
+    ap.add_argument("--workers", type=bounded(int, 1, MAX_WORKERS), default=2,
+                    help="local processes for both (default 2)")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "design.csv")
     ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img" / "design.png")
     args = ap.parse_args(argv)
-    if args.n < 2 or args.workers < 1:
-        ap.error("--n must be >= 2 and --workers >= 1")
     res = run(args.n, args.workers, args.out, args.img)
     for r in res["rows"]:
         print(f"{r['method']:>10}: {r['runs']:4d} runs, {r['wall_s']:6.2f} s, best decay time "

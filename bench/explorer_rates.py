@@ -29,7 +29,7 @@ if not __package__:  # run as a file (python bench/explorer_rates.py): its folde
     sys.path.insert(0, str(ROOT))
 
 from app.serve.server import App, warm_up  # noqa: E402
-from bench.cli import study_parser  # noqa: E402
+from bench.cli import bounded, study_parser  # noqa: E402
 from bench.explorer_startup import save_chart  # noqa: E402
 from bench.machine import machine  # noqa: E402
 
@@ -186,7 +186,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """``python -m bench explorer-rates [seconds] [--out CSV] [--img PNG] [--chart-only]``."""
     argv = sys.argv[1:] if argv is None else list(argv)
     ap = study_parser("explorer-rates", __doc__, prog)
-    ap.add_argument("seconds", nargs="?", type=float, default=10.0, help="seconds measured at each warp (default 10)")
+    ap.add_argument("seconds", nargs="?", type=bounded(float, 0.5, 3600.0), default=10.0,
+                    help="seconds measured at each warp (default 10)")
     ap.add_argument("--out", type=Path, default=OUT, help=f"the CSV (default {OUT.relative_to(ROOT)})")
     ap.add_argument("--img", type=Path, default=IMG, help=f"the chart (default {IMG.relative_to(ROOT)})")
     ap.add_argument("--chart-only", action="store_true", help="redraw the chart from the CSV; measure nothing")

@@ -41,7 +41,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if not __package__:  # run as a file (python bench/explorer_startup.py): its folder is on the path, not the project's
     sys.path.insert(0, str(ROOT))
 
-from bench.cli import study_parser  # noqa: E402
+from bench.cli import bounded, study_parser  # noqa: E402
 from bench.machine import machine  # noqa: E402
 
 # the machine's columns in each row of the --cold CSV: the ones its earlier files have (bench.machine has more)
@@ -261,14 +261,15 @@ def save_chart(fig, img: Path) -> None:
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """``python -m bench explorer-startup [repetitions] [--compare-env-map]`` or ``... --cold [options]``."""
     ap = study_parser("explorer-startup", __doc__, prog)
-    ap.add_argument("repetitions", nargs="?", type=int, help="launches of each kind (default 5; --cold: 3)")
+    ap.add_argument("repetitions", nargs="?", type=bounded(int, 1, 100),
+                    help="launches of each kind (default 5; --cold: 3)")
     ap.add_argument("--compare-env-map", action="store_true", help="alternate with viser's default environment map")
     ap.add_argument("--cold", action="store_true", help="launches with an empty numba cache against warm ones")
     ap.add_argument("--inline", action="store_true",
                     help="--cold: also launch with an empty cache and no background build (compiling in the server)")
     ap.add_argument("--out", type=Path, help="--cold: the CSV (default bench/results/explorer_startup_cold.csv)")
     ap.add_argument("--img", type=Path, help="--cold: the chart (default docs/img/explorer_startup_cold.png)")
-    ap.add_argument("--fast-timeout", type=float, default=300.0,
+    ap.add_argument("--fast-timeout", type=bounded(float, 1.0, 3600.0), default=300.0,
                     help="--cold: seconds to wait for the compiled integrator after the scene moves (default 300)")
     a = ap.parse_args(argv)
     if a.cold:

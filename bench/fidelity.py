@@ -17,7 +17,6 @@ oracle's. ``--rescore CSV`` scores a study's rows again with today's estimates w
 
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import math
@@ -30,6 +29,8 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
+
+from bench.cli import bounded, study_parser
 
 from .machine import machine
 
@@ -695,10 +696,12 @@ def rescore_file(path: Path, out: Path, img: Path, stem: str, command: str) -> d
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench fidelity", description=__doc__.split("\n\n")[0])
+    ap = study_parser("fidelity", __doc__)
     ap.add_argument("--quick", action="store_true", help="40 scenarios and a lower step cap (a few minutes)")
-    ap.add_argument("--n", type=int, default=None, help="number of scenarios (default 300; 40 with --quick)")
-    ap.add_argument("--seed", type=int, default=15, help="random seed of the scenario set (default 15)")
+    ap.add_argument("--n", type=bounded(int, 1, 100_000), default=None,
+                    help="number of scenarios (default 300; 40 with --quick)")
+    ap.add_argument("--seed", type=bounded(int, 0, 2**32 - 1), default=15,
+                    help="random seed of the scenario set (default 15)")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results", help="CSV and meta JSON folder")
     ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img", help="chart folder")
     ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
@@ -720,8 +723,6 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps(meta["summary"], indent=2, default=str))
         return 0
     n = a.n if a.n is not None else (40 if a.quick else 300)
-    if n < 1:
-        ap.error(f"--n must be at least 1, got {n}")
     from physics.scenario.arguments import MAX_WORKERS
 
     if not 1 <= a.workers <= MAX_WORKERS:

@@ -21,7 +21,6 @@ figure_presets() builds one representative run of each figure with the same cons
 
 from __future__ import annotations
 
-import argparse
 import csv
 import math
 import sys
@@ -37,6 +36,7 @@ import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
 import physics  # noqa: E402
+from bench.cli import study_parser
 from physics.reference.averaged_equations import rhs_32  # noqa: E402
 from physics.reference.problems import set_R  # noqa: E402
 from physics.systems.moving_mass import closed as cf  # noqa: E402
@@ -533,7 +533,7 @@ FIGURES = [
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench figures", description=__doc__.split("\n\n")[0])
+    ap = study_parser("figures", __doc__)
     ap.add_argument("--out", default=str(ROOT / "docs/img"), help="output folder for PNG + CSV (default docs/img)")
     ap.add_argument("--quick", action="store_true", help="fewer curves and points, shorter runs (under a minute)")
     ap.add_argument("--presets", action="store_true", help="only (re)write the explorer's figure presets into "

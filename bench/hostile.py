@@ -25,7 +25,6 @@ a moving body).
 
 from __future__ import annotations
 
-import argparse
 import asyncio
 import json
 import math
@@ -40,6 +39,8 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from bench.cli import bounded, study_parser
 
 ROOT = Path(__file__).resolve().parent.parent
 SEED = 24
@@ -449,10 +450,13 @@ def run(seed: int = SEED, rounds: int = 1, settle: float = 6.0) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench hostile", description=__doc__.splitlines()[0])
-    ap.add_argument("--seed", type=int, default=SEED, help="seed of the storm's order and junk frames")
-    ap.add_argument("--rounds", type=int, default=1, help="times every control gets every hostile value")
-    ap.add_argument("--settle", type=float, default=6.0, help="seconds to wait for the tab, and after each stage")
+    ap = study_parser("hostile", __doc__.splitlines()[0])
+    ap.add_argument("--seed", type=bounded(int, 0, 2**32 - 1), default=SEED,
+                    help="seed of the storm's order and junk frames")
+    ap.add_argument("--rounds", type=bounded(int, 1, 100), default=1,
+                    help="times every control gets every hostile value")
+    ap.add_argument("--settle", type=bounded(float, 0.5, 600.0), default=6.0,
+                    help="seconds to wait for the tab, and after each stage")
     ap.add_argument("--out", type=Path, default=None, help="JSON file for the results (with the machine)")
     ap.add_argument("--note", default="", help="what was served (a commit), written into --out")
     args = ap.parse_args(argv)

@@ -21,7 +21,6 @@ closed; and the ``Session`` objects still alive once every client has left and t
 
 from __future__ import annotations
 
-import argparse
 import asyncio
 import ctypes
 import json
@@ -34,6 +33,8 @@ import time
 import warnings
 import weakref
 from pathlib import Path
+
+from bench.cli import bounded, study_parser
 
 from .machine import machine
 
@@ -115,11 +116,11 @@ async def _clients(url: str, n: int, seconds: float, reconnect_every: float | No
 
 
 def client_main(argv: list[str]) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench.load --client")
+    ap = study_parser("", "", prog="python -m bench.load --client")
     ap.add_argument("--client", required=True, help="websocket URL")
-    ap.add_argument("--clients", type=int, required=True)
-    ap.add_argument("--seconds", type=float, required=True)
-    ap.add_argument("--reconnect-every", type=float, default=None)
+    ap.add_argument("--clients", type=bounded(int, 1, 500), required=True)
+    ap.add_argument("--seconds", type=bounded(float, 0.0, 86400.0), required=True)
+    ap.add_argument("--reconnect-every", type=bounded(float, 0.1, 86400.0), default=None)
     a = ap.parse_args(argv)
     out = asyncio.run(_clients(a.client, a.clients, a.seconds, a.reconnect_every))
     print(json.dumps(out))
@@ -313,10 +314,12 @@ def summarize(per_client, rss, frames, *, seconds, warmup, clients, churned, ses
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench load", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--clients", type=int, default=10, help="websocket clients watching at once (default 10)")
-    ap.add_argument("--minutes", type=float, default=5.0, help="how long they watch (default 5)")
-    ap.add_argument("--warmup", type=float, default=15.0, help="seconds not measured at the start")
+    ap = study_parser("load", __doc__)
+    ap.add_argument("--clients", type=bounded(int, 1, 500), default=10,
+                    help="websocket clients watching at once (default 10)")
+    ap.add_argument("--minutes", type=bounded(float, 0.01, 1440.0), default=5.0, help="how long they watch (default 5)")
+    ap.add_argument("--warmup", type=bounded(float, 0.0, 3600.0), default=15.0,
+                    help="seconds not measured at the start")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "load.json",
                     help="the JSON result (default bench/results/load.json)")
     a = ap.parse_args(argv)

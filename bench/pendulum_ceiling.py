@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 import physics
+from bench.cli import study_parser
 from bench.pendulum_hardening import detuned_theta
 from bench.results_file import write_results
 from physics.systems.pendulum.accuracy import SAFETY, SAFETY_LINEAR, scenario_parts
@@ -248,7 +249,7 @@ def chart(result: dict, path: Path) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench pendulum-ceiling", description=__doc__.split("\n\n")[0])
+    ap = study_parser("pendulum-ceiling", __doc__)
     add_study_options(ap)
     args = ap.parse_args(argv)
     paths, picked = picked_rows(ap, args.study)

@@ -16,7 +16,6 @@ docs/img/pendulum_hardening.png (each variant's error against the product's, per
 
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import math
@@ -29,6 +28,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import physics
+from bench.cli import bounded, study_parser
 from bench.fidelity import max_theta_error
 from bench.results_file import write_results
 from physics.scenario.initial import initial_G
@@ -143,16 +143,14 @@ def chart(rows: list[dict], path: Path) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench pendulum-hardening", description=__doc__.split("\n\n")[0])
+    ap = study_parser("pendulum-hardening", __doc__)
     ap.add_argument("--study", type=Path, default=STUDY, help="a fidelity study's CSV whose pendulum rows to rerun")
-    ap.add_argument("--limit", type=int, default=0, help="at most this many rows (0: all)")
+    ap.add_argument("--limit", type=bounded(int, 0, 1_000_000), default=0, help="at most this many rows (0: all)")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results")
     ap.add_argument("--img", type=Path, default=ROOT / "docs" / "img")
     args = ap.parse_args(argv)
     if not args.study.is_file():
         ap.error(f"--study {args.study}: no such file (a CSV written by python -m bench fidelity)")
-    if args.limit < 0:
-        ap.error(f"--limit {args.limit}: must be >= 0 (0: every row)")
     with open(args.study, newline="") as f:
         picked = [r for r in csv.DictReader(f) if r["system"] == "spherical_pendulum" and r["status"] == "ok"]
     if not picked:

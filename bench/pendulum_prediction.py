@@ -47,7 +47,6 @@ docs/img/pendulum_prediction.png (actual error against the prediction and agains
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import math
@@ -60,6 +59,7 @@ from pathlib import Path
 import numpy as np
 
 import physics
+from bench.cli import bounded, study_parser
 from bench.pendulum_ceiling import ACCURACIES, add_study_options, measured, picked_rows, shares, write_study
 from bench.pendulum_hardening import averaged_run, detuned_theta
 from physics.scenario.arguments import MAX_WORKERS
@@ -235,12 +235,10 @@ def _measure_quietly(row: dict) -> dict | None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench pendulum-prediction", description=__doc__.split("\n\n")[0])
+    ap = study_parser("pendulum-prediction", __doc__)
     add_study_options(ap)
-    ap.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    ap.add_argument("--workers", type=bounded(int, 1, MAX_WORKERS), default=2, help="processes (default 2)")
     args = ap.parse_args(argv)
-    if not 1 <= args.workers <= MAX_WORKERS:
-        ap.error(f"--workers {args.workers}: must be from 1 to {MAX_WORKERS}")
     paths, picked = picked_rows(ap, args.study)
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:

@@ -11,12 +11,13 @@ machine's load.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
 import warnings
 from pathlib import Path
+
+from bench.cli import bounded, study_parser
 
 ROOT = Path(__file__).resolve().parent.parent
 VALUES = (1e-300, 1e300, 1e30, 1e-30, 9.2e18)
@@ -63,8 +64,9 @@ def measure(wall_s: float = WALL_S) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench refusals", description=__doc__.splitlines()[0])
-    ap.add_argument("--wall", type=float, default=WALL_S, help="seconds a run may take before it counts as running")
+    ap = study_parser("refusals", __doc__.splitlines()[0])
+    ap.add_argument("--wall", type=bounded(float, 0.1, 3600.0), default=WALL_S,
+                    help="seconds a run may take before it counts as running")
     ap.add_argument("--out", type=Path, default=None, help="JSON file for the counts and the refusals not naming "
                                                            "their key (with the machine)")
     args = ap.parse_args(argv)

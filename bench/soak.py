@@ -17,10 +17,11 @@ with 1 when the growth reaches the target, a steady client fell below 30 updates
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
+
+from bench.cli import bounded, study_parser
 
 from .load import TARGET_UPDATES_PER_S, serve_and_watch
 
@@ -29,12 +30,16 @@ TARGET_GROWTH = 0.05  # issue 7: RSS growth after warm-up under 5 % over 60 minu
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench soak", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--minutes", type=float, required=True, help="how long the explorer is served (60: the target)")
-    ap.add_argument("--clients", type=int, default=2, help="websocket clients watching (default 2)")
-    ap.add_argument("--warmup", type=float, default=None, help="seconds not measured (default: run/5, <= 120)")
-    ap.add_argument("--churn", type=float, default=10.0, help="seconds between preset loads (0: none)")
-    ap.add_argument("--reconnect", type=float, default=30.0, help="seconds between reconnections (0: none)")
+    ap = study_parser("soak", __doc__)
+    ap.add_argument("--minutes", type=bounded(float, 0.01, 1440.0), required=True,
+                    help="how long the explorer is served (60: the target)")
+    ap.add_argument("--clients", type=bounded(int, 1, 500), default=2, help="websocket clients watching (default 2)")
+    ap.add_argument("--warmup", type=bounded(float, 0.0, 3600.0), default=None,
+                    help="seconds not measured (default: run/5, <= 120)")
+    ap.add_argument("--churn", type=bounded(float, 0.0, 3600.0), default=10.0,
+                    help="seconds between preset loads (0: none)")
+    ap.add_argument("--reconnect", type=bounded(float, 0.0, 3600.0), default=30.0,
+                    help="seconds between reconnections (0: none)")
     ap.add_argument("--trim", action="store_true", help="call glibc malloc_trim before each memory sample (tells a "
                     "leak from freed memory the allocator keeps)")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "soak.json",

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import physics
+from app.argv import numbers_as_values
 from physics.scenario import arguments
 
 from .machine import machine
@@ -43,18 +44,19 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser() -> argparse.ArgumentParser:
-    ap = _Parser(prog="python -m bench sweep", description=__doc__.split("\n\n")[0],
+    ap = numbers_as_values(_Parser(prog="python -m bench sweep", description=__doc__.split("\n\n")[0],
                  formatter_class=argparse.RawDescriptionHelpFormatter,
                  epilog="SPEC: LO:HI:N (linear), log:LO:HI:N (geometric), or V1,V2,... . KEY: a dotted scenario "
                         "key (pendulum.k) or a short name unique in the scenario (k). Metrics: "
-                        + ", ".join(f"{m.name} ({m.unit})" for m in physics.METRICS.values()))
+                        + ", ".join(f"{m.name} ({m.unit})" for m in physics.METRICS.values())))
     ap.add_argument("scenario", nargs="?", help="scenario TOML file")
     ap.add_argument("--vary", action="append", default=[], metavar="KEY=SPEC", help="a parameter and its values")
     ap.add_argument("--metric", action="append", default=[], metavar="NAME",
                     help="what to measure (repeat or comma-separate; the first is charted; default decay_time)")
     ap.add_argument("--out", default="sweep.csv", help="CSV to write or resume (default sweep.csv); the chart "
                     "goes next to it with the suffix .png")
-    ap.add_argument("--workers", type=int, help="local worker processes, or LocalCluster workers (default: all cores)")
+    ap.add_argument("--workers", type=int,
+                    help="local worker processes, or LocalCluster workers (default: all cores)")
     ap.add_argument("--dask", metavar="ADDRESS", help='an existing dask.distributed scheduler (tcp://host:8786), '
                     'or "local" for a LocalCluster')
     ap.add_argument("--fidelity", choices=("auto", "full", "averaged", "closed"), help="override [run] fidelity")

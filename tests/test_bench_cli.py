@@ -130,3 +130,39 @@ def test_machine_keeps_the_key_names_of_the_results_already_written():
     assert boxes, "no results file with a machine record"
     for name, box in boxes.items():
         assert set(box) <= set(machine()), f"{name}: {sorted(set(box) - set(machine()))} no longer recorded"
+
+
+# a numeric option of each study and values it must refuse before anything runs: a minus (argparse took "-1e308"
+# for an option and said only "expected one argument"), the ends of the doubles, inf and nan, and a count too big
+REFUSED = [
+    ("load", "--minutes", "-1e308"), ("load", "--clients", "1e9"), ("load", "--warmup", "-inf"),
+    ("soak", "--minutes", "5e-324"), ("soak", "--churn", "1e308"), ("soak", "--clients", "-1"),
+    ("class", "--tabs", "-5e-324"), ("class", "--edit-every", "nan"), ("design", "--n", "-1e308"),
+    ("design", "--workers", "100000"), ("fidelity", "--seed", "-1"), ("fidelity", "--n", "1e308"),
+    ("hostile", "--settle", "1e308"), ("hostile", "--rounds", "-2"), ("challenge", "--reactions", "0"),
+    ("challenge", "--starts", "-1"), ("refusals", "--wall", "nan"), ("pendulum-hardening", "--limit", "-1"),
+    ("pendulum-prediction", "--workers", "-1e3"), ("explorer-startup", "--fast-timeout", "-1e308"),
+    ("explorer-rates", None, "-1"),
+]
+
+
+@pytest.mark.parametrize(("study", "option", "value"), REFUSED, ids=lambda v: str(v))
+def test_a_numeric_option_out_of_range_is_refused_naming_it_its_value_and_what_is_allowed(study, option, value,
+                                                                                          capsys):
+    code, _, err = _exit([study, *([option] if option else ["--"]), value], capsys)
+    line = err.strip().splitlines()[-1]
+    assert code == 2 and f"'{value}'" in line and "allowed: " in line, line
+    assert f"argument {option or 'seconds'}: " in line, line
+    assert "Traceback" not in err and "expected one argument" not in err
+
+
+def test_every_parser_of_the_benchmarks_reads_a_leading_minus_as_a_value():
+    """A parser made anywhere in bench/ but bench/cli.py (and the top level's, which passes the rest on) would read
+    ``--opt -1e308`` as two options again: each goes through study_parser or numbers_as_values."""
+    for path in (ROOT / "bench").glob("*.py"):
+        text = path.read_text()
+        if path.name in ("cli.py", "__main__.py"):
+            continue
+        assert "argparse.ArgumentParser(" not in text, path.name
+        for made in re.findall(r"\bap = (\w+)\(", text):
+            assert made in ("study_parser", "quick_out_img_parser", "numbers_as_values"), (path.name, made)
