@@ -14,6 +14,15 @@ from .serve.address import AddressError, listening_port, shown_host
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
+def _whole(text: str) -> int | str:
+    """--port's value: the whole number it spells, else the text (cut to 40 characters), which listening_port
+    refuses as it refuses 70000, naming the range (argparse said only "invalid int value: '1e3'")."""
+    try:
+        return int(text)
+    except ValueError:
+        return text if len(text) <= 40 else text[:37] + "..."
+
+
 def parse(argv: list[str] | None = None) -> argparse.Namespace:
     ap = numbers_as_values(argparse.ArgumentParser(
         prog="python -m app", description="Serve the Quasirigid explorer in the browser.",
@@ -21,7 +30,7 @@ def parse(argv: list[str] | None = None) -> argparse.Namespace:
         "plays from the file (python -m app record --help)"))
     ap.add_argument("--host", default="127.0.0.1",
                     help="interface to bind (default 127.0.0.1; anything else exposes the explorer to the network)")
-    ap.add_argument("--port", type=int, default=8080, help="port (default 8080; 0 = any free port)")
+    ap.add_argument("--port", type=_whole, default=8080, help="port (default 8080; 0 = any free port)")
     ap.add_argument("--scenario", metavar="FILE.toml", help="open on this scenario instead of the default scene")
     ap.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
                     help="also accept browser connections from pages at ORIGIN (e.g. http://example.org); by "

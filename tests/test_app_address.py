@@ -80,6 +80,9 @@ def test_the_printed_link_is_a_url(host, shown):
     (["--host", NOT_THIS_MACHINE, "--port", "0"], f"error: --host {NOT_THIS_MACHINE}: cannot be listened on here"),
     (["--port", "70000"], "error: --port 70000: must be a whole number from 0 to 65535"),
     (["--port=-1"], "error: --port -1: must be a whole number from 0 to 65535"),
+    (["--port", "-1e308"], "error: --port -1e308: must be a whole number from 0 to 65535"),
+    (["--port", "1e3"], "error: --port 1e3: must be a whole number from 0 to 65535"),
+    (["--port", "x" * 10_000], "error: --port " + "x" * 37 + "...: must be a whole number from 0 to 65535"),
 ])
 def test_python_m_app_says_so_and_ends(argv, needle):
     """As a user starts it: one line and status 2, where it waited for ever (the timeout would fail this)."""
