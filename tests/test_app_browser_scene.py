@@ -30,7 +30,7 @@ from test_app_browser import (
 )
 
 from app.engine.trail import SAMPLES_PER_TURN
-from app.scene.legend import LEGEND_CLASS
+from app.scene.legend import LEGEND_CLASS, LEGEND_LINE_PX
 
 pytestmark = pytest.mark.browser
 Image = pytest.importorskip("PIL.Image")
@@ -121,6 +121,9 @@ def test_the_legend_names_the_default_scenes_parts_and_the_mass_factor(page):
         assert part in text, f"the legend lacks {part!r}:\n{text}"
     for absent in ("pendulum bob", "cavity", "braking torque", "polhode"):
         assert absent not in text, f"the default scene has no {absent}, yet the legend names it:\n{text}"
+    shown = page.evaluate(LEGEND_SHOWN_JS)  # the window as tall as its lines: all shown, little empty window
+    assert shown["top"] >= shown["shown_top"] and shown["bottom"] <= shown["shown_bottom"], shown
+    assert shown["shown_bottom"] - shown["bottom"] < 2 * LEGEND_LINE_PX, shown  # 59 px at a fixed height
     factor = float(number_box(page, "exaggerate u (x)").input_value())
     assert f"drawn x {factor:g}" in text  # the factor the page's slider shows
     assert factor < 10  # the old x10 drew the default scene's mass a body's size away

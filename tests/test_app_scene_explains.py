@@ -4,7 +4,9 @@ the body at each scene's default exaggeration; the satellite mesh stays the body
 
 from __future__ import annotations
 
+import contextlib
 import math
+import types
 import warnings
 
 import numpy as np
@@ -271,3 +273,50 @@ def test_the_trail_point_is_the_tip_of_e3_in_the_view():
     e = Engine(_free_top())
     q = e.run.last.quat[0]
     np.testing.assert_allclose(e._trail_point(q), rotate(e.world_wxyz, rotate(q, [0.0, 0.0, 1.0])))
+
+
+def test_the_legend_window_is_as_tall_as_its_lines_and_follows_them():
+    """At a fixed LEGEND_BOX height the default scene's 14 lines left 59 px of empty window under them (measured
+    in chromium). The window takes a row per line (two for a line too long for one), at most LEGEND_BOX's height,
+    and is resized only when the lines change."""
+    from app.scene.legend import LEGEND_BOX, LEGEND_CHARS, LEGEND_FRAME_PX, LEGEND_LINE_PX, LegendView, legend_height
+
+    sc = physics.default_scenario()
+    short, full = parts_of(sc), parts_of(sc, polhode=True)
+    assert legend_height(full) == pytest.approx(legend_height(short) + LEGEND_LINE_PX)
+    assert legend_height(short) == pytest.approx(LEGEND_FRAME_PX + len(entries(short)) * LEGEND_LINE_PX)
+    assert legend_height(short) < LEGEND_BOX[3]
+    long_name = "m" * (2 * LEGEND_CHARS) + ".stl"
+    assert legend_height(parts_of(sc, mesh=long_name)) >= legend_height(short) + 2 * LEGEND_LINE_PX
+    crowded = parts_of(sc, polhode=True, mesh=long_name * 3, second="m = 0 kg")
+    assert legend_height(crowded) == LEGEND_BOX[3]  # beyond it the window scrolls
+
+    class Window:
+        def __init__(self):
+            self.heights = []
+
+        def add_tab(self, _):
+            return contextlib.nullcontext()
+
+        def float(self, **_):
+            pass
+
+        def set_height(self, h):
+            self.heights.append(h)
+
+    class Gui:
+        def __init__(self):
+            self.window = Window()
+
+        def add_panel(self):
+            return self.window
+
+        def add_markdown(self, text):
+            return types.SimpleNamespace(content=text)
+
+    gui = Gui()
+    view = LegendView(gui)
+    view.show(short)
+    view.show(short)  # the same lines: no resize (a user's own size stays)
+    view.show(full)
+    assert gui.window.heights == [legend_height(short), legend_height(full)]

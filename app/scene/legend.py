@@ -10,6 +10,7 @@ legend is the colour on the canvas.
 from __future__ import annotations
 
 import html
+import math
 from dataclasses import dataclass
 
 import physics
@@ -149,6 +150,21 @@ LEGEND_CLASS = "quasirigid-legend"
 LEGEND_BOX = (12, 160, 330, 330)  # px: x, y, width, height of the floating legend: the 3-D view's left side,
 # clear of the body in the middle, of the control panel on the right and of the browser's notices at the top
 # left (software WebGL), within a 768 px tall screen, above where tests click to focus the 3-D view (y = 500)
+# The window is as tall as its lines (at most LEGEND_BOX's height): at a fixed 330 px the default scene's 14 lines
+# left 59 px of empty window under them. Measured in chromium at 1400x900 and 1024x768: a line is 15.6 px
+# (12 px at 1.3), the tab bar and padding 65 px (330 px less 17 lines), and the longest line of a preset (the
+# brake's, 57 characters with its mark) 289 px of the 291 px the lines have, on one row. A longer line (a mesh's
+# file name) counts a row per LEGEND_CHARS characters; where a wider font wraps more, the window scrolls
+LEGEND_LINE_PX = 15.6
+LEGEND_FRAME_PX = 65.0
+LEGEND_CHARS = 58
+
+
+def legend_height(parts: SceneParts) -> float:
+    """The legend window's height (px) for ``parts``: its frame and one row per LEGEND_CHARS characters of each
+    line, at most LEGEND_BOX's height (beyond it the window scrolls)."""
+    rows = sum(math.ceil((len(e.text) + 1 + len(e.colors)) / LEGEND_CHARS) for e in entries(parts))
+    return min(float(LEGEND_BOX[3]), LEGEND_FRAME_PX + rows * LEGEND_LINE_PX)
 
 
 class LegendView:
@@ -167,8 +183,13 @@ class LegendView:
             place = gui.add_folder("Legend")
         with place:
             self.markdown = gui.add_markdown("")
+        self.height = float(LEGEND_BOX[3])
 
     def show(self, parts: SceneParts) -> None:
         text = legend_markdown(parts)
         if self.markdown.content != text:
             self.markdown.content = text
+            height = legend_height(parts)
+            if self.window is not None and height != self.height:  # only as the lines change: a user's resize stays
+                self.window.set_height(height)
+                self.height = height
