@@ -301,5 +301,5 @@ def test_a_scene_change_during_the_sweep_marks_the_result_stale_on_arrival():
     panel.lo1.value, panel.hi1.value, panel.n1.value = 2.0, 4.0, 2
     sc, vary, metric = panel.request()
     scenes.append(physics.point_scenario(scenes[0], {"mass.m": 0.1}))  # moved while the sweep ran
-    panel._work(sc, vary, metric)
+    panel.work(sc, vary, metric)
     assert panel.table is not None and panel.stale and "Stale" in panel.result_md.content

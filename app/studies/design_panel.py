@@ -20,6 +20,7 @@ import physics
 from ..engine import controls
 from ..engine.compare import SLIDERS
 from . import design_view, results_window
+from .background import BackgroundStudy
 from .slider_choice import NONE, key_of, offer, options
 from .stale import same_scene
 from .sweep_ranges import default_range, scenario_key, show_range
@@ -51,7 +52,7 @@ def slider_map(system: str) -> dict[str, str]:
     return {scenario_key(p.key, system): p.key for p in controls.PARAMS if system in p.systems}
 
 
-class DesignPanel:
+class DesignPanel(BackgroundStudy):
     """Widgets added to the current gui context. ``get_scenario()`` is the scene's scenario when Run is pressed;
     ``load_scenario(sc)`` loads a scene (the optimum, or the papers' tuning to compare beside); ``compare(spec)``
     turns compare mode on (app.engine.compare.parse's spec). ``executor``/``workers`` go to physics.design."""
@@ -59,13 +60,12 @@ class DesignPanel:
     def __init__(self, gui, get_scenario: Callable[[], physics.Scenario],
                  load_scenario: Callable[[physics.Scenario], None], *, compare: Callable[[object], None] | None = None,
                  workers: int | None = None, executor: str = "processes"):
+        super().__init__()
         self.get_scenario, self.load_scenario, self.compare = get_scenario, load_scenario, compare
         self.workers, self.executor = workers, executor
         self.result: physics.DesignResult | None = None
         self.sliders: dict[str, str] = {}
         self.stale = False
-        self.thread: threading.Thread | None = None
-        self.stop = threading.Event()
         self._live: list = []  # the running design's runs so far, in the order they finished (the live chart)
         self._live_lock = threading.Lock()
         self._running = "decay_time"  # the running design's objective
@@ -112,9 +112,6 @@ class DesignPanel:
             self._reset_range(i)
 
     # ---- widgets ----------------------------------------------------------------------------------------
-    def _say(self, text: str) -> None:
-        self.status.content = text
-
     def _take_runs(self) -> None:
         n = runs_of(self.runs.value)
         if n is None:
@@ -189,31 +186,20 @@ class DesignPanel:
                                         + ", ".join(physics.OBJECTIVES))
         return sc, vary, self.objective.value, runs
 
-    def start(self) -> threading.Thread | None:
-        """Start a design in a daemon thread (ignored while one runs); returns the thread."""
-        if self.thread is not None and self.thread.is_alive():
-            self._say("A design is running; **Stop design** ends it.")
-            return None
-        try:
-            sc, vary, objective, runs = self.request()
-        except Exception as exc:  # noqa: BLE001 - shown, never raised into viser
-            results_window.say(self.status, self.result_md, f"**Cannot start:** {results_window.failure(exc)}",
-                               self.result is not None)
-            return None
-        self.stop.clear()
-        self._live, self._running = [], objective
-        self.bar.value = 0.0
-        self.run_btn.disabled, self.stop_btn.disabled = True, False
+    NOUN = "design"
+
+    def has_result(self) -> bool:
+        return self.result is not None
+
+    def prepare(self) -> tuple[tuple, str]:
+        sc, vary, objective, runs = self.request()
         sliders = slider_map(sc.system)
         ranges = "; ".join(f"{controls.BY_KEY[sliders[k]].label} from {lo:.6g} to {hi:.6g}" for k, (lo, hi) in
                            vary.items())
-        results_window.say(self.status, self.result_md, f"Designing for the "
-                           f"{design_view.GOAL_WORDS[physics.OBJECTIVES[objective]]} {objective}: {ranges}, at most "
-                           f"{runs} runs on local workers...", self.result is not None)
-        self.thread = threading.Thread(target=self._work, args=(sc, vary, objective, runs), name="design",
-                                       daemon=True)
-        self.thread.start()
-        return self.thread
+        self._live, self._running = [], objective
+        goal = design_view.GOAL_WORDS[physics.OBJECTIVES[objective]]
+        return (sc, vary, objective, runs), (f"Designing for the {goal} {objective}: {ranges}, at most {runs} runs "
+                                             "on local workers...")
 
     def _progress(self, done: int, budget: int, e) -> None:
         """Called once per run from the design's threads: the bar, and every LIVE_EVERY runs the status line and
@@ -229,19 +215,15 @@ class DesignPanel:
             self.plot.figure = design_view.path_figure(path, physics.OBJECTIVES[objective], objective,
                                                        physics.METRICS[objective].unit)
 
-    def _work(self, sc: physics.Scenario, vary: dict, objective: str, runs: int) -> None:
+    def work(self, sc: physics.Scenario, vary: dict, objective: str, runs: int) -> None:
         try:
             result = physics.design(sc, vary, objective, budget=runs, workers=self.workers, executor=self.executor,
                                     progress=self._progress, stop=self.stop)
-            self.show(result)
         except physics.DesignStopped:
             results_window.say(self.status, self.result_md, "Stopped before the first run ended: there is no "
-                               "optimum to show. **Run design** starts again.", self.result is not None)
-        except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            results_window.say(self.status, self.result_md, f"**Design failed:** {results_window.failure(exc)}",
-                               self.result is not None)
-        finally:
-            self.run_btn.disabled, self.stop_btn.disabled = False, True
+                               "optimum to show. **Run design** starts again.", self.has_result())
+            return
+        self.show(result)
 
     def show(self, result: physics.DesignResult) -> None:
         """Show ``result`` in the Design window and offer the optimum."""

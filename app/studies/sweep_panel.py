@@ -15,12 +15,12 @@ from __future__ import annotations
 import contextlib
 import itertools
 import math
-import threading
 from collections.abc import Callable
 
 import physics
 
 from . import results_window, sweep_view
+from .background import BackgroundStudy
 from .slider_choice import NONE, key_of, offer, options
 from .stale import same_scene
 from .sweep_board import BOARD_MAX, SweepBoard
@@ -44,7 +44,7 @@ def count_of(value) -> int | None:
     return n if 1 <= n <= MAX_POINTS and n == value and not isinstance(value, bool) else None
 
 
-class SweepPanel:
+class SweepPanel(BackgroundStudy):
     """Widgets added to the current gui context. ``get_scenario()`` is the scene's scenario when Run is
     pressed; ``load_scenario(sc)`` is called (from the GUI callback thread) when a point is loaded.
     ``executor``/``workers`` go to physics.sweep (local processes on all cores by default); ``scene``
@@ -53,13 +53,12 @@ class SweepPanel:
     def __init__(self, gui, get_scenario: Callable[[], physics.Scenario],
                  load_scenario: Callable[[physics.Scenario], None], *, workers: int | None = None,
                  executor: str = "processes", scene=None):
+        super().__init__()
         self.get_scenario, self.load_scenario = get_scenario, load_scenario
         self.board = SweepBoard(scene, self.load_point) if scene is not None else None
         self.workers, self.executor = workers, executor
         self.table: physics.SweepTable | None = None
         self.stale = False
-        self.thread: threading.Thread | None = None
-        self.stop = threading.Event()
         self._points: dict[str, int] = {}
         sc = get_scenario()
         self.system = sc.system
@@ -164,9 +163,6 @@ class SweepPanel:
         except Exception:  # noqa: BLE001 - a scenario being swapped out: judged again at the next change
             pass
 
-    def _say(self, text: str) -> None:
-        self.status.content = text
-
     # ---- running --------------------------------------------------------------------------------
     def request(self) -> tuple[physics.Scenario, dict, str]:
         """(scenario, vary, metric) from the widgets; raises ScenarioError on bad input."""
@@ -198,42 +194,24 @@ class SweepPanel:
             physics.point_scenario(sc, dict(corner))  # an end no scene can take is refused here, as the sweep builds it
         return sc, vary, self.metric.value
 
-    def start(self) -> threading.Thread | None:
-        """Start a sweep in a daemon thread (ignored while one runs); returns the thread."""
-        if self.thread is not None and self.thread.is_alive():
-            self._say("A sweep is running; **Stop sweep** ends it.")
-            return None
-        try:
-            sc, vary, metric = self.request()
-            n = math.prod(spec[-1] for spec in vary.values())
-        except Exception as exc:  # noqa: BLE001 - shown, never raised into viser
-            results_window.say(self.status, self.result_md, f"**Cannot start:** {results_window.failure(exc)}",
-                               self.table is not None)
-            return None
-        self.stop.clear()
-        self.bar.value = 0.0
-        self.run_btn.disabled, self.stop_btn.disabled = True, False
+    NOUN = "sweep"
+
+    def has_result(self) -> bool:
+        return self.table is not None
+
+    def prepare(self) -> tuple[tuple, str]:
+        sc, vary, metric = self.request()
+        n = math.prod(spec[-1] for spec in vary.values())
         ranges = "; ".join(f"{k.split('.', 1)[1]} from {s[-3]:.6g} to {s[-2]:.6g} ({s[-1]} points"
                            + (", log" if len(s) == 4 else "") + ")" for k, s in vary.items())
-        results_window.say(self.status, self.result_md, f"Running {n} simulations on local workers: {ranges}...",
-                           self.table is not None)
-        self.thread = threading.Thread(target=self._work, args=(sc, vary, metric), name="sweep", daemon=True)
-        self.thread.start()
-        return self.thread
+        return (sc, vary, metric), f"Running {n} simulations on local workers: {ranges}..."
 
     def _progress(self, done: int, total: int) -> None:
         self.bar.value = 100.0 * done / total if total else 100.0
 
-    def _work(self, sc: physics.Scenario, vary: dict, metric: str) -> None:
-        try:
-            table = physics.sweep(sc, vary, metric, workers=self.workers, executor=self.executor,
-                                  progress=self._progress, stop=self.stop)
-            self.show(table)
-        except Exception as exc:  # noqa: BLE001 - the panel reports, the server goes on
-            results_window.say(self.status, self.result_md, f"**Sweep failed:** {results_window.failure(exc)}",
-                               self.table is not None)
-        finally:
-            self.run_btn.disabled, self.stop_btn.disabled = False, True
+    def work(self, sc: physics.Scenario, vary: dict, metric: str) -> None:
+        self.show(physics.sweep(sc, vary, metric, workers=self.workers, executor=self.executor,
+                                progress=self._progress, stop=self.stop))
 
     def show(self, table: physics.SweepTable) -> None:
         """Chart ``table``, say which point is best and why others failed, and list its points for loading."""
