@@ -135,3 +135,18 @@ def test_a_non_finite_value_in_the_data_raises_nothing(bad):
 def test_the_axis_around_extreme_plotted_values_is_finite_and_holds_them(lo, hi):
     bottom, top = y_range(lo, hi)
     assert math.isfinite(bottom) and math.isfinite(top) and bottom < top and bottom <= lo and hi <= top
+
+
+@pytest.mark.parametrize("lo, hi, bottom, top", [
+    (0.0044, 0.3, 0.0, None),  # theta settling towards 0: the axis ended at -0.2, a third of the chart below 0
+    (0.0, 0.0, 0.0, None), (0.0, 5e-324, 0.0, None), (1e-300, 1e-290, 0.0, None),
+    (-0.3, -0.0044, None, 0.0),  # and the mirror image
+    (-0.1, 0.3, -0.2, 0.4),  # data on both sides of 0: as before
+])
+def test_data_that_never_cross_zero_get_an_axis_that_does_not_either(lo, hi, bottom, top):
+    got = y_range(lo, hi)
+    assert got[0] <= lo and hi <= got[1] and got[0] < got[1], got
+    if bottom is not None:
+        assert got[0] == bottom, got
+    if top is not None:
+        assert got[1] == top, got

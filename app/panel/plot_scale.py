@@ -108,12 +108,14 @@ class ScaleKeeper:
 def y_range(lo: float, hi: float) -> tuple[float, float]:
     """The y axis's extent for plotted values lo..hi: 2 % of the span beyond each, then out to a multiple of
     a round step of about a third of it, so the axis ends on ticks and shows two to four of them; a flat
-    line gets 10 % of its value (or 1) on each side. The server sets it (and the x extent): uPlot's own
-    ranging of the x axis, under viser 1.1.1's zoom keeping, drifted off the data on a busy page (the
-    plot showed t = 0..2 s at t = 13 s)."""
+    line gets 10 % of its value (or 1) on each side. Data that never go below 0 (or above it) get an axis that
+    does not either: theta decaying to 0.004 rad drew its axis down to -0.2, a third of the chart for values it
+    cannot take. The server sets it (and the x extent): uPlot's own ranging of the x axis, under viser 1.1.1's
+    zoom keeping, drifted off the data on a busy page (the plot showed t = 0..2 s at t = 13 s)."""
     if not (math.isfinite(lo) and math.isfinite(hi)) or hi < lo:
         return -1.0, 1.0
     given = (lo, hi) if lo < hi else (math.nextafter(lo, -math.inf), math.nextafter(hi, math.inf))
+    positive, negative = lo >= 0, hi <= 0
     if hi - lo <= max(CONSTANT * max(abs(lo), abs(hi)), TINY):
         pad = 0.1 * abs(lo) if abs(lo) > TINY else 1.0
         lo, hi = lo - pad, hi + pad
@@ -121,6 +123,10 @@ def y_range(lo: float, hi: float) -> tuple[float, float]:
     if not math.isfinite(span):  # padding overflowed: values near 1e308
         return given
     lo, hi = lo - 0.02 * span, hi + 0.02 * span
+    if positive:
+        lo = max(lo, 0.0)
+    elif negative:
+        hi = min(hi, 0.0)
     step = _round_up((hi - lo) / 3)
     out = math.floor(lo / step) * step, math.ceil(hi / step) * step
     return out if math.isfinite(out[0]) and math.isfinite(out[1]) else given
