@@ -30,6 +30,7 @@ import physics
 from app.argv import numbers_as_values
 from physics.scenario import arguments
 
+from .cli import bounded
 from .machine import machine
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -55,7 +56,7 @@ def _parser() -> argparse.ArgumentParser:
                     help="what to measure (repeat or comma-separate; the first is charted; default decay_time)")
     ap.add_argument("--out", default="sweep.csv", help="CSV to write or resume (default sweep.csv); the chart "
                     "goes next to it with the suffix .png")
-    ap.add_argument("--workers", type=int,
+    ap.add_argument("--workers", type=bounded(int, 1, arguments.MAX_WORKERS),
                     help="local worker processes, or LocalCluster workers (default: all cores)")
     ap.add_argument("--dask", metavar="ADDRESS", help='an existing dask.distributed scheduler (tcp://host:8786), '
                     'or "local" for a LocalCluster')

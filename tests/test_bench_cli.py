@@ -142,7 +142,7 @@ REFUSED = [
     ("hostile", "--settle", "1e308"), ("hostile", "--rounds", "-2"), ("challenge", "--reactions", "0"),
     ("challenge", "--starts", "-1"), ("refusals", "--wall", "nan"), ("pendulum-hardening", "--limit", "-1"),
     ("pendulum-prediction", "--workers", "-1e3"), ("explorer-startup", "--fast-timeout", "-1e308"),
-    ("explorer-rates", None, "-1"),
+    ("explorer-rates", None, "-1"), ("sweep", "--workers", "-1e3"),
 ]
 
 
