@@ -4,6 +4,7 @@ names that are."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -44,9 +45,12 @@ def test_texts_not_offered_name_no_key():
 
 
 def test_two_sliders_that_read_alike_are_told_apart_by_key(monkeypatch):
-    a, b = controls.BY_KEY["mass.chi"], controls.BY_KEY["mass.Omega"]
-    twin = {**controls.BY_KEY, "mass.Omega": type(b)(**{**b.__dict__, "label": a.label, "unit": a.unit})}
-    monkeypatch.setattr(controls, "BY_KEY", twin)
+    # through the registry: BY_KEY is read from it at each use (a module __getattr__), and an attribute set on the
+    # module would outlive the test and hide systems registered later (the toy system's test failed on it)
+    reg = controls.registry()
+    a, b = reg.by_key["mass.chi"], reg.by_key["mass.Omega"]
+    twin = {**reg.by_key, "mass.Omega": dataclasses.replace(b, label=a.label, unit=a.unit)}
+    monkeypatch.setattr(controls, "registry", lambda: dataclasses.replace(reg, by_key=twin))
     names = slider_choice.names("moving_mass")
     assert names["chi (1/s) [mass.chi]"] == "mass.chi" and names["chi (1/s) [mass.Omega]"] == "mass.Omega"
     assert "chi (1/s)" not in names and len(set(names.values())) == len(names)
