@@ -29,7 +29,7 @@ import physics
 from app.scene.legend import FIGURE_COLORS
 
 pytestmark = pytest.mark.browser
-WHEEL = "Viscous wheel damper"  # the wheel system's label, offered in the System dropdown
+WHEEL = "viscous wheel"  # the wheel system's label, offered in the System dropdown (lower case, as the others)
 # px: the wheel is a translucent disk 0.25 of the body's extent in radius inside the translucent body, so it
 # changes far fewer pixels than a hidden body (test_app_browser_scene's 800): hiding it at t = 0 changed 255
 # pixels at 1400x900 when it was a bare ring (2026-11-26), and one drawn edge-on still changes its axle's line

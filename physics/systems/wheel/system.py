@@ -159,7 +159,7 @@ t_end = 30.0
 """
 
 SYSTEM = register_system(System(
-    name=NAME, label="Viscous wheel damper",
+    name=NAME, label="viscous wheel",
     summary="a wheel turning about a body-fixed axis in a viscous bearing (docs/models.md Part C)",
     tables=(Table("wheel", Wheel),), example=EXAMPLE, params=PARAMS, folders=(FOLDER,),
     check=check, conditions=conditions, choose=choose, available=available, derived=derived, values=values,
