@@ -5,6 +5,7 @@ scale, and results marked stale when the scene changes (issue 13, point 3)."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -69,6 +70,7 @@ def test_default_m_range_of_the_default_scene_stops_below_the_invalid_masses():
 
 
 PRESETS = presets.preset_names()
+ROOT = Path(__file__).resolve().parent.parent
 
 
 @pytest.mark.parametrize("name", PRESETS)
@@ -303,3 +305,16 @@ def test_a_scene_change_during_the_sweep_marks_the_result_stale_on_arrival():
     scenes.append(physics.point_scenario(scenes[0], {"mass.m": 0.1}))  # moved while the sweep ran
     panel.work(sc, vary, metric)
     assert panel.table is not None and panel.stale and "Stale" in panel.result_md.content
+
+
+def test_the_chart_names_its_axes_as_the_sliders_read_with_their_units():
+    """The axes said the scenario key ("mass.chi"), without a unit; they now say the slider's text, and a key no
+    slider sets (a sweep from a file may vary any numeric key) keeps its name."""
+    heat = sweep_view.figure(_table(["mass.Omega", "mass.chi"], [[2.5, 30.0], [1.0, 10.0, 30.0]], [1.0] * 6))
+    assert heat.layout.yaxis.title.text == named("mass.Omega") == "Omega (rad/s)"
+    assert heat.layout.xaxis.title.text == named("mass.chi") and "chi (1/s) = " in heat.data[0].hovertemplate
+    curve = sweep_view.figure(_table(["run.t_end"], [[1.0, 2.0]], [1.0, 2.0]))
+    assert curve.layout.xaxis.title.text == "run.t_end"
+    plane = physics.Scenario.load(ROOT / "assets" / "scenarios" / "plane_pendulums_three.toml")
+    bobs = sweep_view.figure(_table(["plane_pendulum.k"], [[1.0, 2.0]], [1.0, 2.0], base=plane))
+    assert bobs.layout.xaxis.title.text == named("pendulum.k")

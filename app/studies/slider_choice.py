@@ -48,6 +48,12 @@ def text_of(key: str, system: str) -> str:
     return next((t for t, k in names(system).items() if k == key), key)
 
 
+def scenario_text(dotted: str, system: str) -> str:
+    """The text of the slider that sets the scenario key ``dotted`` in ``system`` ("mass.m" -> "m (kg)"), for a
+    chart's axis; the key itself where no slider sets it (a sweep run from a file may vary any numeric key)."""
+    return next((t for t, k in names(system).items() if scenario_key(k, system) == dotted), dotted)
+
+
 def offer(dropdown, texts: list[str]) -> None:
     """Give ``dropdown`` the options ``texts``, keeping its choice where it is still offered (else the first)."""
     if list(dropdown.options) != texts:

@@ -18,6 +18,7 @@ import numpy as np
 import physics
 
 from ..engine import controls
+from .slider_choice import scenario_text
 
 
 @dataclass(frozen=True)
@@ -233,16 +234,17 @@ def figure(table: physics.SweepTable, stale: bool = False):
     metric, unit = table.metric, physics.METRICS[table.metric].unit
     values = table.column(metric)
     b = best(table)
+    names = [scenario_text(k, table.base.system) for k in table.keys]  # "m (kg)", as the panel's sliders read
     fig = go.Figure()
     if len(table.keys) == 1:
         x = list(table.axes[0])
         y = [v if math.isfinite(v) else None for v in values]
         fig.add_trace(go.Scatter(x=x, y=y, mode="lines+markers", name=metric, showlegend=False,
-                                 hovertemplate=f"{table.keys[0]} = %{{x:.4g}}<br>{metric} = %{{y:.4g}}<extra></extra>"))
+                                 hovertemplate=f"{names[0]} = %{{x:.4g}}<br>{metric} = %{{y:.4g}}<extra></extra>"))
         if b is not None:
             fig.add_trace(go.Scatter(x=[x[b]], y=[values[b]], mode="markers", name="best", showlegend=False,
                                      marker={"size": 14, "symbol": "circle-open", "line": {"width": 2}}))
-        fig.update_xaxes(title_text=table.keys[0], type="log" if table.spacing[0] == "log" else "linear")
+        fig.update_xaxes(title_text=names[0], type="log" if table.spacing[0] == "log" else "linear")
         scale = colour_scale(values, unit)
         fig.update_yaxes(title_text=f"{metric} ({scale.title})", type="log" if scale.kind == "log" else "linear")
         if scale.kind == "clipped":  # the outliers run off the chart instead of flattening the rest
@@ -265,7 +267,7 @@ def figure(table: physics.SweepTable, stale: bool = False):
             ticks = _decades(scale.lo, scale.hi)
             bar.update(tickvals=ticks, ticktext=[controls.fmt(10.0 ** t, 3) for t in ticks])
         fig.add_trace(go.Heatmap(x=list(table.axes[1]), y=list(table.axes[0]), z=z, text=text, colorbar=bar,
-                                 hovertemplate=(f"{table.keys[1]} = %{{x:.4g}}<br>{table.keys[0]} = "
+                                 hovertemplate=(f"{names[1]} = %{{x:.4g}}<br>{names[0]} = "
                                                 "%{y:.4g}<br>%{text}<extra></extra>"), **heat))
         if b is not None:
             a_, c_ = divmod(b, n2)
@@ -273,8 +275,8 @@ def figure(table: physics.SweepTable, stale: bool = False):
                                      showlegend=False, hoverinfo="skip",
                                      marker={"size": 16, "symbol": "circle-open", "color": "red",
                                              "line": {"width": 3}}))
-        fig.update_xaxes(title_text=table.keys[1], type="log" if table.spacing[1] == "log" else "linear")
-        fig.update_yaxes(title_text=table.keys[0], type="log" if table.spacing[0] == "log" else "linear")
+        fig.update_xaxes(title_text=names[1], type="log" if table.spacing[1] == "log" else "linear")
+        fig.update_yaxes(title_text=names[0], type="log" if table.spacing[0] == "log" else "linear")
     title = metric
     if len(table.keys) > 1 and caption:
         title = caption
