@@ -21,7 +21,7 @@ from ..engine import controls
 from ..engine.compare import SLIDERS
 from . import design_view, results_window
 from .background import BackgroundStudy
-from .slider_choice import NONE, key_of, offer, options
+from .slider_choice import NONE, key_of, offer, options, slider_map
 from .stale import same_scene
 from .sweep_ranges import default_range, scenario_key, show_range
 
@@ -45,11 +45,6 @@ def runs_of(value) -> int | None:
     except (TypeError, ValueError, OverflowError):
         return None
     return n if MIN_RUNS <= n <= MAX_RUNS and n == value and not isinstance(value, bool) else None
-
-
-def slider_map(system: str) -> dict[str, str]:
-    """Scenario key -> the slider that sets it, for this system's sliders."""
-    return {scenario_key(p.key, system): p.key for p in controls.PARAMS if system in p.systems}
 
 
 class DesignPanel(BackgroundStudy):

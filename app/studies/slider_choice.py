@@ -48,10 +48,16 @@ def text_of(key: str, system: str) -> str:
     return next((t for t, k in names(system).items() if k == key), key)
 
 
+def slider_map(system: str) -> dict[str, str]:
+    """Scenario key -> the slider that sets it, for this system's sliders."""
+    return {scenario_key(p.key, system): p.key for p in controls.PARAMS if system in p.systems}
+
+
 def scenario_text(dotted: str, system: str) -> str:
     """The text of the slider that sets the scenario key ``dotted`` in ``system`` ("mass.m" -> "m (kg)"), for a
     chart's axis; the key itself where no slider sets it (a sweep run from a file may vary any numeric key)."""
-    return next((t for t, k in names(system).items() if scenario_key(k, system) == dotted), dotted)
+    slider = slider_map(system).get(dotted)
+    return dotted if slider is None else text_of(slider, system)
 
 
 def offer(dropdown, texts: list[str]) -> None:
