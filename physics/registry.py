@@ -305,15 +305,19 @@ class System:
         return ("auto", *known, *sorted(set(self.models) - set(known)))
 
     def pick(self, sc) -> tuple[str, str]:
-        """``auto``'s fidelity and reason: the system's chooser, else the cheapest registered model whose
-        conditions hold and that is available, else the full model."""
+        """``auto``'s fidelity and reason: the system's chooser, else the cheapest registered model (by
+        ``cheapest_first``, then any fidelity it does not name) whose conditions hold and that is available, else
+        the full model."""
         if self.choose is not None:
             return self.choose(sc)
         failed = [c for c in self.conditions(sc) if not c.holds]
-        for fid in reversed(self.fidelities[1:]):
-            if fid == "full" or (not failed and self.available(sc, fid)[0]):
-                why = "requested" if fid == "full" else "conditions hold"
-                return fid, why if not failed else "conditions fail: " + "; ".join(map(str, failed))
+        if failed:
+            return "full", "conditions fail: " + "; ".join(map(str, failed))
+        named = [f for f in self.cheapest_first(sc) if f in self.models and f != "full"]
+        rest = [f for f in reversed(self.fidelities[1:]) if f not in named and f != "full"]
+        for fid in (*named, *rest):
+            if self.available(sc, fid)[0]:
+                return fid, "conditions hold"
         return "full", "no cheaper model"
 
 

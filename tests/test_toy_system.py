@@ -20,6 +20,7 @@ import test_model_battery as battery
 import physics
 import physics.compiled.dispatch
 from physics.core.rotation import nutation_angle, rotate
+from physics.registry import Condition
 
 NAME = "rotor"
 
@@ -299,3 +300,23 @@ def test_the_scenarios_view_of_the_tables_follows_registration():
         physics.unregister_system("toy_late")
     with pytest.raises(physics.ScenarioError, match="wheel4 = .*unknown table"):
         physics.Scenario.from_toml(toml)
+
+
+def test_auto_without_a_chooser_tries_the_cheaper_models_in_the_system_s_own_order():
+    """A system with no chooser of its own: auto takes the first available cheaper model in its ``cheapest_first``
+    (not the registry's dearest-first order reversed), the full model when a condition fails or none is available."""
+    models = {f: _toy_model("toy_order", f) for f in ("full", "averaged", "closed")}
+    holds, free = [Condition("x", 1.0, 2.0)], {"averaged", "closed"}
+    system = dataclasses.replace(_toy_system("toy_order", "wheel0"), models=models,
+                                 conditions=lambda sc: holds,
+                                 available=lambda sc, f: (f in free, "" if f in free else "not here"),
+                                 cheapest_first=lambda sc: ("averaged", "closed"))
+    assert system.pick(None) == ("averaged", "conditions hold")
+    free.discard("averaged")
+    assert system.pick(None) == ("closed", "conditions hold")
+    free.discard("closed")
+    assert system.pick(None) == ("full", "no cheaper model")
+    free.update({"averaged", "closed"})
+    holds[0] = Condition("x", 3.0, 2.0)
+    fid, why = system.pick(None)
+    assert fid == "full" and why.startswith("conditions fail: ")
