@@ -23,7 +23,7 @@ from . import design_view, results_window
 from .background import BackgroundStudy
 from .slider_choice import NONE, key_of, offer, options, slider_map
 from .stale import same_scene
-from .sweep_ranges import default_range, scenario_key, show_range
+from .sweep_ranges import reset_range, scenario_key
 
 SLOTS = 3  # sliders a design varies from the explorer (physics.design takes four)
 DEFAULT_RUNS = 120
@@ -120,14 +120,7 @@ class DesignPanel(BackgroundStudy):
         key, lo, hi = self.slots[i]
         for h in (lo, hi):
             h.visible = key.value != NONE
-        slider = key_of(key.value, self.system)
-        if slider is None:
-            return
-        try:
-            a, b = default_range(self.get_scenario(), slider, 8)
-        except Exception:  # noqa: BLE001 - a scenario being swapped out: keep the old range
-            return
-        show_range(lo, hi, a, b)
+        reset_range(lo, hi, self.get_scenario, key_of(key.value, self.system), 8)
 
     def refresh(self) -> None:
         """Rebuild the slider lists for the scene's current system (call after a system change)."""

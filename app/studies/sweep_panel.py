@@ -24,7 +24,7 @@ from .background import BackgroundStudy
 from .slider_choice import NONE, key_of, offer, options
 from .stale import same_scene
 from .sweep_board import BOARD_MAX, SweepBoard
-from .sweep_ranges import default_range, scenario_key, show_range
+from .sweep_ranges import reset_range, scenario_key
 
 NO_POINTS = "(run a sweep first)"
 DEFAULT_POINTS = 8  # per parameter: 8 x 8 = 64 runs is a minute or so for the presets on two cores
@@ -130,14 +130,7 @@ class SweepPanel(BackgroundStudy):
                           (self.lo2, self.hi2, self.log2, self.n2))
         for h in ((lo, hi, log, n) if which == 2 else ()):
             h.visible = text != NONE
-        key = key_of(text, self.system)
-        if key is None:
-            return
-        try:
-            a, b = default_range(self.get_scenario(), key, count_of(n.value) or self._counts[which])
-        except Exception:  # noqa: BLE001 - a scenario being swapped out: keep the old range
-            return
-        show_range(lo, hi, a, b)
+        reset_range(lo, hi, self.get_scenario, key_of(text, self.system), count_of(n.value) or self._counts[which])
 
     def refresh(self) -> None:
         """Rebuild the parameter lists for the scene's current system (call after a system change)."""

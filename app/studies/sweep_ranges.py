@@ -139,3 +139,15 @@ def show_range(lo_box, hi_box, lo: float, hi: float) -> None:
         box.precision = box_precision(lo, hi)
         box.step = box_step(lo, hi)
         box.value = v
+
+
+def reset_range(lo_box, hi_box, get_scenario, key: str | None, n: int) -> None:
+    """Fill a from/to pair with ``key``'s default_range of ``n`` points on the current scene; nothing for no key, or
+    while the scenario is being swapped out (the old range stays until the next change)."""
+    if key is None:
+        return
+    try:
+        lo, hi = default_range(get_scenario(), key, n)
+    except Exception:  # noqa: BLE001 - a scenario being swapped out: keep the old range
+        return
+    show_range(lo_box, hi_box, lo, hi)
