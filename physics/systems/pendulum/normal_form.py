@@ -140,6 +140,25 @@ def _monomials(E, b0, b1, b2, dw, out):
 
 
 @njit(cache=True)
+def _sample(B, dW, W, p, J, V, L, E1, E3):
+    """The averaged field at each probe (B[q] the three amplitudes, W + dW[q] the spin) and the monomials there."""
+    n = B.shape[0]
+    G = np.empty((n, 3), np.complex128)
+    GS = np.empty(n)
+    MP = np.empty((n, TERMS_PAIR.shape[0]), np.complex128)
+    M3 = np.empty((n, TERMS_THIRD.shape[0]), np.complex128)
+    MS = np.empty((n, TERMS_SPIN.shape[0]), np.complex128)
+    field = np.zeros(3, np.complex128)
+    for q in range(n):
+        GS[q] = _averaged_field(B[q], W + dW[q], p, J, V, L, E1, E3, field)
+        G[q] = field
+        _monomials(TERMS_PAIR, B[q, 0], B[q, 1], B[q, 2], dW[q], MP[q])
+        _monomials(TERMS_THIRD, B[q, 0], B[q, 1], B[q, 2], dW[q], M3[q])
+        _monomials(TERMS_SPIN, B[q, 0], B[q, 1], B[q, 2], dW[q], MS[q])
+    return G, GS, MP, M3, MS
+
+
+@njit(cache=True)
 def _rates(y, mu, W, C0, C1, C2, CW, mp, m3, ms, out):
     b0, b1, b2, dw = complex(y[0], y[3]), complex(y[1], y[4]), complex(y[2], y[5]), y[6] - W
     _monomials(TERMS_PAIR, b0, b1, b2, dw, mp)
@@ -300,26 +319,15 @@ def predict(p: np.ndarray, w0, t: np.ndarray, seed: int = 0, terms: bool = True)
                                       np.zeros(len(TERMS_SPIN), complex), reach * 1.05, spin_reach, RTOL,
                                       1e-12 * float(size.max()), MAX_STEPS)
         return Prediction(theta=_thetas(Y, t, p, V, rot), fit_residual=0.0, steps=int(steps)) if status == 0 else None
-    rng = np.random.default_rng(seed)
     n = PROBES_PER_TERM * max(len(TERMS_PAIR), len(TERMS_THIRD), len(TERMS_SPIN))
-    MP = np.empty((n, len(TERMS_PAIR)), complex)
-    M3 = np.empty((n, len(TERMS_THIRD)), complex)
-    MS = np.empty((n, len(TERMS_SPIN)), complex)
-    G = np.empty((n, 3), complex)
-    GS = np.empty(n)
-    field = np.zeros(3, complex)
-    for q in range(n):
-        b = reach * np.sqrt(rng.uniform(0.0, 1.0, 3)) * np.exp(2j * np.pi * rng.uniform(0.0, 1.0, 3))
-        dw = rng.uniform(-spin_reach, spin_reach)
-        GS[q] = _averaged_field(b, W + dw, p, J, V, L, E1, E3, field)
-        G[q] = field
-        _monomials(TERMS_PAIR, b[0], b[1], b[2], dw, MP[q])
-        _monomials(TERMS_THIRD, b[0], b[1], b[2], dw, M3[q])
-        _monomials(TERMS_SPIN, b[0], b[1], b[2], dw, MS[q])
+    u = np.random.default_rng(seed).random((n, 7))  # per probe: three magnitudes, three phases, the spin
+    B = reach * np.sqrt(u[:, :3]) * np.exp(2j * np.pi * u[:, 3:6])
+    dW = -spin_reach + 2.0 * spin_reach * u[:, 6]
+    G, GS, MP, M3, MS = _sample(B, dW, W, p, J, V, L, E1, E3)
     if not (np.all(np.isfinite(G)) and np.all(np.isfinite(GS))):
         return None
-    C0 = np.linalg.lstsq(MP, G[:, 0], rcond=None)[0]
-    C1 = np.linalg.lstsq(MP, G[:, 1], rcond=None)[0]
+    C01 = np.linalg.lstsq(MP, G[:, :2], rcond=None)[0]  # one factorisation for the pair's two amplitudes
+    C0, C1 = np.ascontiguousarray(C01[:, 0]), np.ascontiguousarray(C01[:, 1])
     C2 = np.linalg.lstsq(M3, G[:, 2], rcond=None)[0]
     real = np.linalg.lstsq(np.hstack([MS.real, -MS.imag]), GS, rcond=None)[0]  # Re(c m) with c complex, m complex
     CW = real[:len(TERMS_SPIN)] + 1j * real[len(TERMS_SPIN):]
