@@ -5,6 +5,7 @@ No simulation: the generator is checked over a few hundred seeded draws, the err
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -110,3 +111,22 @@ def test_the_error_interpolates_and_stops_where_the_shorter_run_stops():
     assert end == 2.0 and err == pytest.approx(2.0)
     err_half, _ = F.max_theta_error(t_ref[[0, 1, 4]], ref[[0, 1, 4]], t, theta)  # t = 0.5 lies halfway up
     assert err_half == pytest.approx(1.0)
+
+
+def test_auto_s_choice_is_timed_with_its_estimates_computed_afresh(monkeypatch):
+    """The study charges auto's choice with computing the error estimates, as a run of a new scenario pays for them:
+    even after ``derived`` has computed (and cached) them, each accuracy's timed choice computes them again. Before,
+    the choice read them from the cache, and the pendulum's prediction was never timed."""
+    from physics.systems.pendulum import normal_form
+
+    F._warm()
+    sc = physics.Scenario.load(Path(__file__).resolve().parents[1] / "assets" / "scenarios" / "pendulum_detuned.toml")
+    physics.derived(sc)
+    calls = []
+    predict = normal_form.predict
+    monkeypatch.setattr(normal_form, "predict", lambda *a, **k: calls.append(1) or predict(*a, **k))
+    physics.derived(sc)
+    assert not calls  # derived again: the cached estimate
+    picks = F.auto_picks(sc)
+    assert len(calls) == len(F.ACCURACIES)
+    assert all(picks[f"choose_s_{a:g}"] > 0 for a in F.ACCURACIES)
