@@ -2,12 +2,14 @@
 pendulum's estimate as it is built, whatever its safety factors? A measurement for issue 23's open point, not a
 model of the product.
 
-The estimate (physics/systems/pendulum/accuracy.py) is SAFETY_LINEAR (linear_gap + polhode_gap) + SAFETY
-max(detuning_gap, rate_gap). Here its parts are computed for every spherical-pendulum row with an actual error in
-the fidelity studies' CSVs (the averaged model's error against the full model, already measured there), and the
-two nonlinear parts are given their own factors, s_d and s_r, each from 1 to 2.5: the pair that lets auto take
-the most cheap runs while no row's actual error exceeds its estimate is the ceiling of this form of estimate, fitted
-with no margin on the very rows it is scored on. If the ceiling is below issue 23's 80 %, no choice of factors
+The estimate here is the bracket (physics/systems/pendulum/accuracy.py ``Parts.bracket``, the whole estimate until
+issue 23's prediction): SAFETY_LINEAR (linear_gap + polhode_gap) + SAFETY max(detuning_gap, rate_gap); the
+``estimate`` column is it, and "the product's" below means it. Here its parts are computed for every
+spherical-pendulum row with an actual error in the fidelity studies' CSVs (the averaged model's error against the
+full model, already measured there), and the two nonlinear parts are given their own factors, s_d and s_r, each
+from 1 to 2.5: the pair that lets auto take the most cheap runs while no row's actual error exceeds its estimate is
+the ceiling of this form of estimate, fitted with no margin on the very rows it is scored on.
+If the ceiling is below issue 23's 80 %, no choice of factors
 meets it: the parts themselves must come nearer the actual error (or the model nearer the full one).
 
 One other form is measured beside it, the first candidate for such a part: ``hardening`` = how far the averaged
@@ -79,7 +81,7 @@ def measure(row: dict) -> dict | None:
     if not all(map(math.isfinite, parts)):
         return None
     return dict(study=row["study"], index=row["index"], actual=row["actual"], linear=parts[0], detuning=parts[1],
-                rate=parts[2], estimate=q.bound, hardening=hardening_gap(sc), following=following_gap(sc),
+                rate=parts[2], estimate=q.bracket, hardening=hardening_gap(sc), following=following_gap(sc),
                 resonance=q.resonance_gap)
 
 

@@ -41,6 +41,12 @@ a decision rule that is not a bound, the best use of these predictions short of 
 SWING_SHIFT omega_0 x)^2 + gamma1^2) = |kappa2 Phihat_0|^2 in x = a^2, has one root or three. With three, the
 hardening bob can settle on its upper branch, which the following equations, started at rest, do not reach.
 
+The product's own prediction since (issue 23), the full equations averaged numerically
+(physics/systems/pendulum/normal_form.py), is the ``normal_form`` column (accuracy.py's ``predicted_gap``, inf where
+it does not apply) beside the ``bracket``; the ``estimate`` column is the product's, the smaller of the two where
+the bob has one steady swing. The summary's ``normal_form`` gives actual / predicted over those rows, and the shares
+the bracket alone would take.
+
 Writes bench/results/pendulum_prediction.csv (+ .meta.json: machine, command, summary) and
 docs/img/pendulum_prediction.png (actual error against the prediction and against the product's estimate).
 """
@@ -64,7 +70,8 @@ from bench.pendulum_ceiling import ACCURACIES, add_study_options, measured, pick
 from bench.pendulum_hardening import averaged_run, detuned_theta
 from physics.scenario.arguments import MAX_WORKERS
 from physics.scenario.initial import initial_G
-from physics.systems.pendulum.accuracy import SWING_SHIFT, scenario_parts
+from physics.systems.pendulum.accuracy import SAFETY_PREDICTED, SWING_SHIFT, scenario_parts
+from physics.systems.pendulum.accuracy import steady_branches as accuracy_branches  # the bench's own takes sc
 from physics.systems.pendulum.averaged import AveragedCoefficients, averaged_theta
 from physics.systems.pendulum.geometry import pendulum_system
 from physics.systems.pendulum.linear import linear_nutation, spherical_linear
@@ -78,7 +85,7 @@ S_SPREAD = (0.0, 0.5, 1.0, 2.0)
 PRECISIONS = (1.1, 1.25, 1.5, 2.0)  # the ceiling's S: an estimate at most this many times the actual error
 S_ENVELOPE = (1.0, 1.1, 1.25, 1.5, 2.0)
 COLUMNS = ("study", "index", "actual", "estimate", "linear", "detuning", "rate", *PREDICTIONS, "spread",
-           "swing", "shift_over_width", "D_over_l", "branches")
+           "swing", "shift_over_width", "D_over_l", "branches", "bracket", "normal_form")
 
 
 def following_theta(sc, t: np.ndarray, spin: float, hardening: float, arm: float) -> np.ndarray:
@@ -99,18 +106,11 @@ def following_theta(sc, t: np.ndarray, spin: float, hardening: float, arm: float
 
 
 def steady_branches(sc) -> int:
-    """How many steady swings the following equations' bob has at the start (module docstring): 1 or 3."""
+    """How many steady swings the following equations' bob has at the start (module docstring): 1 or 3; the
+    product's own count (physics/systems/pendulum/accuracy.py ``steady_branches``)."""
     p = spherical_linear(pendulum_system(sc))
     w0, _, _ = initial_G(sc)
-    return _branches(p, AveragedCoefficients(p), w0, SWING_SHIFT[sc.pendulum.pivot])
-
-
-def _branches(p, co: AveragedCoefficients, w0, swing_shift: float) -> int:
-    h = swing_shift * p.omega0
-    drive = abs(co.kappa2 * complex(w0[0], w0[1]))
-    roots = np.roots([h * h, 2 * co.sigma * h, co.sigma**2 + co.gamma1**2, -drive * drive])
-    real = roots[np.abs(roots.imag) <= 1e-9 * np.maximum(1.0, np.abs(roots))].real
-    return int(np.sum(real > 0))
+    return accuracy_branches(p, w0, SWING_SHIFT[sc.pendulum.pivot])
 
 
 def measure(row: dict) -> dict | None:
@@ -141,7 +141,8 @@ def measure(row: dict) -> dict | None:
                linear=q.linear_gap + q.polhode_gap, detuning=q.detuning_gap, rate=q.rate_gap,
                spread=spread if math.isfinite(spread) else math.inf, swing=q.a,
                shift_over_width=q.shift / q.width if q.width > 0 else math.inf, D_over_l=p.D / p.l,
-               branches=_branches(p, co, w0, SWING_SHIFT[sc.pendulum.pivot]))
+               branches=q.branches, bracket=q.bracket,
+               normal_form=q.predicted_gap)
     for name, d in moved.items():
         e = float(np.max(np.abs(k_fixed(th_lin + d) - th_avg)))
         out[name] = e if math.isfinite(e) else math.inf
@@ -190,6 +191,13 @@ def summary(rows: list[dict]) -> dict:
     out["ceiling"] = {f"{s:g}": shares(actual, s * actual) for s in PRECISIONS}
     envelope = np.maximum.reduce([col[name] for name in PREDICTIONS]) + col["spread"]
     out["envelope_decision"] = [dict(S=s, **decision(actual, col["estimate"], s * envelope)) for s in S_ENVELOPE]
+    usable = np.isfinite(col["normal_form"]) & (col["branches"] == 1)
+    ratio = actual[usable] / col["normal_form"][usable]
+    out["normal_form"] = dict(
+        rows=int(usable.sum()), without=int(np.sum(~np.isfinite(col["normal_form"]))),
+        ratio_percentiles={str(q): float(np.percentile(ratio, q)) for q in (0, 1, 5, 25, 50, 75, 95, 99, 100)}
+        if usable.any() else {}, within_10_percent=int(np.sum(np.abs(ratio - 1) <= 0.1)),
+        bracket_only=shares(actual, col["bracket"]))
     ratio = actual / col["prediction"]
     out["branches"] = {str(b): dict(rows=int(np.sum(col["branches"] == b)),
                                     ratio_percentiles={str(q): float(np.percentile(ratio[col["branches"] == b], q))
@@ -207,7 +215,8 @@ def chart(rows: list[dict], result: dict, path: Path) -> None:
     actual = np.array([r["actual"] for r in rows])
     fig, axes = plt.subplots(1, 2, figsize=(10.5, 4.6), sharey=True)
     for ax, key, title in ((axes[0], "prediction", "the prediction (coefficients following spin-up, swing, arm)"),
-                           (axes[1], "estimate", "the product's estimate (brackets x SAFETY)")):
+                           (axes[1], "estimate",
+                            f"the product's estimate (min of bracket, {SAFETY_PREDICTED:g} x normal form)")):
         x = np.array([r[key] for r in rows])
         ax.loglog(x, actual, ".", ms=3, alpha=0.6, color="C0" if key == "prediction" else "C1")
         lo, hi = 1e-7, 1.0
@@ -253,6 +262,13 @@ def main(argv: list[str] | None = None) -> int:
         q = result[name]["ratio_percentiles"]
         print(f"{name}: actual/predicted median {q['50']:.2f}, 5-95 % {q['5']:.2f}-{q['95']:.2f}, 99 % {q['99']:.2f},"
               f" worst {q['100']:.2f}; within 10 %: {result[name]['within_10_percent']}")
+    nf = result["normal_form"]
+    if nf["ratio_percentiles"]:
+        q = nf["ratio_percentiles"]
+        print(f"normal form ({nf['rows']} rows with one steady swing and a prediction; {nf['without']} without): "
+              f"actual/predicted median {q['50']:.2f}, 1-99 % {q['1']:.2f}-{q['99']:.2f}, range {q['0']:.2f}-"
+              f"{q['100']:.2f}; the bracket alone: " + ", ".join(
+                  f"{a:g} rad {nf['bracket_only'][f'{a:g}']['share']:.0%}" for a in ACCURACIES))
     b = result["best_bound"]
     if b is None:
         print("no estimate of the form S_p prediction + S_n bracket + S_s spread tried leaves every row within it")

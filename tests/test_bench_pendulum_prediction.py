@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -120,9 +121,13 @@ def test_the_ceiling_and_the_decision_count_by_hand():
     actual = np.array([0.5e-3, 0.9e-3, 5e-3, 9.5e-3, 20e-3])
     rows = [dict(study="s", index=str(i), actual=a, estimate=1.0, linear=0.0, detuning=0.0, rate=0.0,
                  sigma_only=a, no_arm=a, prediction=a, spread=0.0, swing=0.1, shift_over_width=0.1, D_over_l=1.0,
-                 branches=1)
+                 branches=1, bracket=1.0, normal_form=a / 2 if i < 4 else math.inf)
             for i, a in enumerate(actual)]
-    c = PP.summary(rows)["ceiling"]["1.25"]
+    s = PP.summary(rows)
+    nf = s["normal_form"]  # four rows predicted at half their error, one with no prediction
+    assert (nf["rows"], nf["without"], nf["ratio_percentiles"]["50"], nf["within_10_percent"]) == (4, 1, 2.0, 0)
+    assert nf["bracket_only"]["0.01"]["auto"] == 0  # a bracket of 1 rad takes nothing
+    c = s["ceiling"]["1.25"]
     assert (c["0.01"]["oracle"], c["0.01"]["auto"]) == (4, 3) and (c["0.001"]["oracle"], c["0.001"]["auto"]) == (2, 1)
     d = PP.decision(actual, np.ones(5), np.array([0.8e-3, 2e-3, 2e-3, 20e-3, 8e-3]))
     assert d["0.01"] == dict(oracle=4, auto=3, share=0.75, over_accuracy=1)

@@ -20,7 +20,14 @@ import numpy as np
 from physics.registry import Condition
 from physics.scenario.scenario import Scenario
 from physics.systems.choice import cheapest_within
-from physics.systems.pendulum.accuracy import SAFETY, SAFETY_LINEAR, SWING_MAX, averaged_error_bound, scenario_parts
+from physics.systems.pendulum.accuracy import (
+    SAFETY,
+    SAFETY_LINEAR,
+    SAFETY_PREDICTED,
+    SWING_MAX,
+    averaged_error_bound,
+    scenario_parts,
+)
 from physics.systems.pendulum.geometry import pendulum_system
 from physics.systems.pendulum.linear import spherical_linear
 
@@ -42,9 +49,10 @@ METHOD = ("the averaged model's distance from the exact linear theory plus its c
           "dependent detuning (spin-up W theta0^2/2, the bob's swing from linear theory or at resonance, where "
           "it can jump there) and, on an asymmetric carrier, its free nutation's departure from the linear one, "
           "over [0, t_end], "
-          f"each times a safety factor ({SAFETY_LINEAR:g} on the linear part, {SAFETY:g} on the nonlinear) "
-          "calibrated against the full model (python -m bench fidelity, "
-          "docs/models.md)")
+          f"each times a safety factor ({SAFETY_LINEAR:g} on the linear part, {SAFETY:g} on the nonlinear), or, "
+          "where smaller and the bob has one steady swing, its distance from the full equations averaged "
+          f"numerically times {SAFETY_PREDICTED:g}; the factors calibrated against the full model (python -m bench "
+          "fidelity, docs/models.md)")
 
 
 def averaged_conditions(sc: Scenario) -> list[Condition]:
