@@ -227,9 +227,11 @@ def polhode_gap(p: SphericalLinear, wx: float, wy: float, t_end: float) -> float
     return float(max(abs(exact.max() - linear.max()), abs(exact.min() - linear.min())))
 
 
-def scenario_parts(sc) -> Parts:
+def scenario_parts(sc, predict: bool = True) -> Parts:
     """``parts`` of a spherical-pendulum scenario. A mode that grows (a damper that destabilises the nutation) or
-    extreme input overflows: then every part is inf, which fails the conditions and leaves no estimate."""
+    extreme input overflows: then every part is inf, which fails the conditions and leaves no estimate. With
+    ``predict=False`` the normal form is not run (``predicted_gap`` stays inf): the conditions read the swing and the
+    detuning only, and a scenario that fails them needs no prediction."""
     p = spherical_linear(pendulum_system(sc))
     w0, _, _ = initial_G(sc)
     try:
@@ -239,6 +241,8 @@ def scenario_parts(sc) -> Parts:
         q = None
     if q is None or not all(map(math.isfinite, (q.linear_gap, q.detuning_gap, q.rate_gap, q.a, q.shift))):
         return Parts(*(math.inf,) * 5, g=0.0, width=0.0, polhode_gap=math.inf, resonance_gap=math.inf)
+    if not predict:
+        return q
     w = (float(w0[0]), float(w0[1]), float(w0[2]))
     try:
         with np.errstate(all="ignore"):
@@ -284,7 +288,7 @@ def _predicted_gap(p: SphericalLinear, packed: tuple, w0: tuple, t_end: float) -
 
 def pendulum_amplitude(sc) -> float:
     """The pendulum's largest swing |alpha + i beta| (rad) over [0, t_end] in linear theory, started at rest."""
-    return scenario_parts(sc).a
+    return scenario_parts(sc, predict=False).a
 
 
 def averaged_error_bound(sc) -> float:
